@@ -1,0 +1,71 @@
+// A typed device buffer that grows and is reused from step to step.
+#pragma once
+
+#include "OclRuntime.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace btocl {
+
+template <class T>
+class DeviceBuffer {
+public:
+    // Room for at least n elements. Grows by half again on overflow; contents are lost on growth.
+    void reserve(const OclRuntime& rt, size_t n) {
+        if (n <= m_capacity && m_buffer()) return;
+        size_t cap = std::max<size_t>({n, m_capacity + m_capacity / 2, 64});
+        if (cap * sizeof(T) > rt.maxAllocSize()) cap = std::max(n, rt.maxAllocSize() / sizeof(T));
+        if (n * sizeof(T) > rt.maxAllocSize())
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: a buffer of " + std::to_string(n * sizeof(T)) +
+                                      " bytes exceeds the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE of " +
+                                      std::to_string(rt.maxAllocSize()));
+        cl_int err = CL_SUCCESS;
+        m_buffer = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, cap * sizeof(T), nullptr, &err);
+        checkCl(err, "allocating a device buffer");
+        m_capacity = cap;
+    }
+
+    // Copies n elements from host memory (blocking unless an event is asked for; then `data`
+    // must live until the event completes).
+    void write(const OclRuntime& rt, const T* data, size_t n, cl::Event* event = nullptr, size_t offset = 0) {
+        reserve(rt, offset + n);
+        if (n == 0) return;
+        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, event ? CL_FALSE : CL_TRUE, offset * sizeof(T),
+                                              n * sizeof(T), data, nullptr, event),
+                "writing a device buffer");
+    }
+    void write(const OclRuntime& rt, const std::vector<T>& data, cl::Event* event = nullptr) {
+        write(rt, data.data(), data.size(), event);
+    }
+
+    void read(const OclRuntime& rt, T* data, size_t n, cl::Event* event = nullptr, size_t offset = 0) const {
+        if (n == 0) return;
+        checkCl(rt.queue().enqueueReadBuffer(m_buffer, event ? CL_FALSE : CL_TRUE, offset * sizeof(T),
+                                             n * sizeof(T), data, nullptr, event),
+                "reading a device buffer");
+    }
+    std::vector<T> read(const OclRuntime& rt, size_t n) const {
+        std::vector<T> out(n);
+        read(rt, out.data(), n);
+        return out;
+    }
+
+    void fill(const OclRuntime& rt, const T& value, size_t n) {
+        reserve(rt, n);
+        if (n == 0) return;
+        checkCl(rt.queue().enqueueFillBuffer(m_buffer, value, 0, n * sizeof(T)), "filling a device buffer");
+    }
+
+    const cl::Buffer& buffer() const { return m_buffer; }
+    size_t capacity() const { return m_capacity; }
+
+private:
+    cl::Buffer m_buffer;
+    size_t m_capacity = 0;
+};
+
+}  // namespace btocl

@@ -1,0 +1,188 @@
+#include "OclRuntime.h"
+
+#include "KernelSources.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <sstream>
+
+namespace btocl {
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+const char* typeName(cl_device_type t) {
+    if (t & CL_DEVICE_TYPE_GPU) return "GPU";
+    if (t & CL_DEVICE_TYPE_CPU) return "CPU";
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return "ACCELERATOR";
+    return "OTHER";
+}
+
+}  // namespace
+
+const char* clErrorName(cl_int err) {
+    switch (err) {
+#define BTOCL_ERR(e) case e: return #e;
+        BTOCL_ERR(CL_SUCCESS) BTOCL_ERR(CL_DEVICE_NOT_FOUND) BTOCL_ERR(CL_DEVICE_NOT_AVAILABLE)
+        BTOCL_ERR(CL_COMPILER_NOT_AVAILABLE) BTOCL_ERR(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        BTOCL_ERR(CL_OUT_OF_RESOURCES) BTOCL_ERR(CL_OUT_OF_HOST_MEMORY) BTOCL_ERR(CL_BUILD_PROGRAM_FAILURE)
+        BTOCL_ERR(CL_INVALID_VALUE) BTOCL_ERR(CL_INVALID_DEVICE) BTOCL_ERR(CL_INVALID_CONTEXT)
+        BTOCL_ERR(CL_INVALID_COMMAND_QUEUE) BTOCL_ERR(CL_INVALID_MEM_OBJECT) BTOCL_ERR(CL_INVALID_PROGRAM)
+        BTOCL_ERR(CL_INVALID_PROGRAM_EXECUTABLE) BTOCL_ERR(CL_INVALID_KERNEL_NAME) BTOCL_ERR(CL_INVALID_KERNEL)
+        BTOCL_ERR(CL_INVALID_ARG_INDEX) BTOCL_ERR(CL_INVALID_ARG_VALUE) BTOCL_ERR(CL_INVALID_ARG_SIZE)
+        BTOCL_ERR(CL_INVALID_KERNEL_ARGS) BTOCL_ERR(CL_INVALID_WORK_DIMENSION)
+        BTOCL_ERR(CL_INVALID_WORK_GROUP_SIZE) BTOCL_ERR(CL_INVALID_WORK_ITEM_SIZE)
+        BTOCL_ERR(CL_INVALID_GLOBAL_OFFSET) BTOCL_ERR(CL_INVALID_EVENT_WAIT_LIST) BTOCL_ERR(CL_INVALID_EVENT)
+        BTOCL_ERR(CL_INVALID_OPERATION) BTOCL_ERR(CL_INVALID_BUFFER_SIZE) BTOCL_ERR(CL_INVALID_GLOBAL_WORK_SIZE)
+        BTOCL_ERR(CL_INVALID_BUILD_OPTIONS) BTOCL_ERR(CL_PLATFORM_NOT_FOUND_KHR)
+        BTOCL_ERR(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+#undef BTOCL_ERR
+        default: return "unknown OpenCL error";
+    }
+}
+
+void checkCl(cl_int err, const char* what) {
+    if (err == CL_SUCCESS) return;
+    std::ostringstream ss;
+    ss << "btOpenCLConstraintSolver: " << what << " failed: " << clErrorName(err) << " (" << err << ")";
+    throw btOpenCLSolverError(ss.str());
+}
+
+std::vector<DeviceEntry> listDevices() {
+    std::vector<DeviceEntry> out;
+    std::vector<cl::Platform> platforms;
+    if (cl::Platform::get(&platforms) != CL_SUCCESS) return out;
+    for (const cl::Platform& p : platforms) {
+        std::vector<cl::Device> devices;
+        if (p.getDevices(CL_DEVICE_TYPE_ALL, &devices) != CL_SUCCESS) continue;
+        for (const cl::Device& d : devices) {
+            DeviceEntry e;
+            e.platform = p;
+            e.device = d;
+            e.platformName = trim(p.getInfo<CL_PLATFORM_NAME>());
+            e.deviceName = trim(d.getInfo<CL_DEVICE_NAME>());
+            e.type = d.getInfo<CL_DEVICE_TYPE>();
+            out.push_back(e);
+        }
+    }
+    return out;
+}
+
+std::string describeDevices(const std::vector<DeviceEntry>& devices) {
+    if (devices.empty()) return "  (no OpenCL platform or device found; is an ICD such as pocl-opencl-icd installed?)\n";
+    std::ostringstream ss;
+    for (size_t i = 0; i < devices.size(); ++i)
+        ss << "  " << i << ": [" << typeName(devices[i].type) << "] " << devices[i].platformName << " / "
+           << devices[i].deviceName << "\n";
+    return ss.str();
+}
+
+DeviceEntry selectDevice(const std::string& specIn) {
+    std::string spec = trim(specIn);
+    if (spec.empty())
+        if (const char* env = std::getenv("BT_OPENCL_DEVICE")) spec = trim(env);
+    const std::vector<DeviceEntry> devices = listDevices();
+    if (devices.empty())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device found.\n" + describeDevices(devices));
+
+    auto firstOfType = [&](cl_device_type t) -> const DeviceEntry* {
+        for (const DeviceEntry& d : devices)
+            if (d.type & t) return &d;
+        return nullptr;
+    };
+    const std::string key = lower(spec);
+    const DeviceEntry* found = nullptr;
+    if (key.empty()) {
+        found = firstOfType(CL_DEVICE_TYPE_GPU);
+        if (!found) found = firstOfType(CL_DEVICE_TYPE_CPU);
+        if (!found) found = &devices.front();
+    } else if (key == "gpu") {
+        found = firstOfType(CL_DEVICE_TYPE_GPU);
+    } else if (key == "cpu") {
+        found = firstOfType(CL_DEVICE_TYPE_CPU);
+    } else if (std::all_of(key.begin(), key.end(), [](unsigned char c) { return std::isdigit(c); })) {
+        const size_t index = std::strtoul(key.c_str(), nullptr, 10);
+        if (index < devices.size()) found = &devices[index];
+    } else {
+        for (const DeviceEntry& d : devices)
+            if (lower(d.platformName + " / " + d.deviceName).find(key) != std::string::npos) {
+                found = &d;
+                break;
+            }
+    }
+    if (!found)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device matches '" + spec +
+                                  "'. Devices there are:\n" + describeDevices(devices) +
+                                  "Choose one by index, by 'gpu' or 'cpu', or by part of its name.");
+    return *found;
+}
+
+OclRuntime::OclRuntime(const std::string& deviceSpec) {
+    const DeviceEntry entry = selectDevice(deviceSpec);
+    m_device = entry.device;
+    m_deviceName = entry.platformName + " / " + entry.deviceName;
+    m_isCpu = (entry.type & CL_DEVICE_TYPE_CPU) != 0;
+
+    cl_int err = CL_SUCCESS;
+    m_context = cl::Context(m_device, nullptr, nullptr, nullptr, &err);
+    checkCl(err, "creating the OpenCL context");
+    m_queue = cl::CommandQueue(m_context, m_device, CL_QUEUE_PROFILING_ENABLE, &err);
+    m_profiling = (err == CL_SUCCESS);
+    if (!m_profiling) {
+        m_queue = cl::CommandQueue(m_context, m_device, 0, &err);
+        checkCl(err, "creating the OpenCL command queue");
+    }
+    m_maxWorkGroupSize = m_device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+    m_localMemSize = m_device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+    m_maxAllocSize = m_device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+}
+
+cl::Program OclRuntime::buildProgramFile(const std::string& file, const std::string& options) const {
+    return buildProgramSource(loadKernelSource(file), file, options);
+}
+
+cl::Program OclRuntime::buildProgramSource(const std::string& source, const std::string& name,
+                                           const std::string& options) const {
+    cl_int err = CL_SUCCESS;
+    cl::Program program(m_context, inlineKernelIncludes(source), false, &err);
+    checkCl(err, ("creating program " + name).c_str());
+    const std::string opts = "-cl-std=CL1.2 " + options;
+    err = program.build(std::vector<cl::Device>{m_device}, opts.c_str());
+    if (err != CL_SUCCESS) {
+        std::string log;
+        program.getBuildInfo(m_device, CL_PROGRAM_BUILD_LOG, &log);
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: building kernel program '" + name + "' failed (" +
+                                  clErrorName(err) + ") on " + m_deviceName + ". Compiler log:\n" + log);
+    }
+    return program;
+}
+
+cl::Kernel OclRuntime::makeKernel(const cl::Program& program, const char* name) const {
+    cl_int err = CL_SUCCESS;
+    cl::Kernel k(program, name, &err);
+    checkCl(err, (std::string("creating kernel ") + name).c_str());
+    return k;
+}
+
+void OclRuntime::finish(const char* what) const { checkCl(m_queue.finish(), what); }
+
+double eventMs(const cl::Event& event) {
+    if (!event()) return 0;
+    cl_ulong start = 0, end = 0;
+    if (event.getProfilingInfo(CL_PROFILING_COMMAND_START, &start) != CL_SUCCESS) return 0;
+    if (event.getProfilingInfo(CL_PROFILING_COMMAND_END, &end) != CL_SUCCESS) return 0;
+    return end > start ? double(end - start) * 1e-6 : 0.0;
+}
+
+}  // namespace btocl

@@ -1,0 +1,74 @@
+// The OpenCL runtime: device choice, context and queue, program builds, errors.
+// Every OpenCL object is held by the RAII wrappers of CL/opencl.hpp.
+#pragma once
+
+#include "OclInclude.h"
+
+#include <string>
+#include <vector>
+
+namespace btocl {
+
+struct DeviceEntry {
+    cl::Platform platform;
+    cl::Device device;
+    std::string platformName;
+    std::string deviceName;
+    cl_device_type type = 0;
+};
+
+// All devices of all platforms, in platform order.
+std::vector<DeviceEntry> listDevices();
+
+// One line per device: "index: [GPU|CPU|...] platform / device".
+std::string describeDevices(const std::vector<DeviceEntry>& devices);
+
+// Chooses a device. spec: "" = env BT_OPENCL_DEVICE, else the first GPU, else the first CPU;
+// "gpu" / "cpu" = the first of that type; a number = index into listDevices();
+// anything else = the first device whose "platform / device" name holds spec (any case).
+// Throws btOpenCLSolverError listing the devices there are when nothing matches.
+DeviceEntry selectDevice(const std::string& spec);
+
+// Throws btOpenCLSolverError naming `what` and the error code when err != CL_SUCCESS.
+void checkCl(cl_int err, const char* what);
+const char* clErrorName(cl_int err);
+
+class OclRuntime {
+public:
+    explicit OclRuntime(const std::string& deviceSpec);
+
+    const cl::Context& context() const { return m_context; }
+    const cl::CommandQueue& queue() const { return m_queue; }
+    const cl::Device& device() const { return m_device; }
+    const std::string& deviceName() const { return m_deviceName; }
+    bool isCpu() const { return m_isCpu; }
+    bool hasProfiling() const { return m_profiling; }
+    size_t maxWorkGroupSize() const { return m_maxWorkGroupSize; }
+    size_t localMemSize() const { return m_localMemSize; }
+    size_t maxAllocSize() const { return m_maxAllocSize; }
+
+    // Builds kernels/<file> (includes inlined). Throws with the compiler's log on failure.
+    cl::Program buildProgramFile(const std::string& file, const std::string& options = "") const;
+    // Builds a program from source text (local includes inlined); `name` labels it in errors.
+    cl::Program buildProgramSource(const std::string& source, const std::string& name,
+                                   const std::string& options = "") const;
+
+    cl::Kernel makeKernel(const cl::Program& program, const char* name) const;
+
+    // Waits for the queue; turns an asynchronous device error into an exception.
+    void finish(const char* what) const;
+
+private:
+    cl::Device m_device;
+    cl::Context m_context;
+    cl::CommandQueue m_queue;
+    std::string m_deviceName;
+    bool m_isCpu = false;
+    bool m_profiling = false;
+    size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0;
+};
+
+// Milliseconds between an event's start and end (0 without profiling).
+double eventMs(const cl::Event& event);
+
+}  // namespace btocl

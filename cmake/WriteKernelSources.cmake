@@ -1,0 +1,13 @@
+# Script mode: writes OUT, a C++ file with one raw string literal per file in FILES.
+set(body "// Generated from kernels/ by cmake/WriteKernelSources.cmake. Do not edit.\n")
+string(APPEND body "#include \"KernelSources.h\"\n\nnamespace btocl {\n\n")
+string(APPEND body "const std::vector<EmbeddedKernelFile>& embeddedKernelFiles() {\n")
+string(APPEND body "    static const std::vector<EmbeddedKernelFile> files = {\n")
+foreach(f IN LISTS FILES)
+  get_filename_component(name "${f}" NAME)
+  file(READ "${f}" text)
+  string(APPEND body "        {\"${name}\", R\"BTOCL_SRC(${text})BTOCL_SRC\"},\n")
+endforeach()
+string(APPEND body "    };\n    return files;\n}\n\n}  // namespace btocl\n")
+file(WRITE "${OUT}.tmp" "${body}")
+execute_process(COMMAND "${CMAKE_COMMAND}" -E copy_if_different "${OUT}.tmp" "${OUT}")

@@ -1,0 +1,94 @@
+// Structs that the host and the kernels both read. Included by OpenCL C programs (with the
+// kernels' own float4/int) and by C++ (with the mirror types below): the layouts must match,
+// so only 4-byte scalars and 16-byte float4s, float4s first, sizes multiples of 16.
+#ifndef BT_OCL_SHARED_H
+#define BT_OCL_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+typedef float4 btoclFloat4;
+#else
+struct alignas(16) btoclFloat4 {
+    float x, y, z, w;
+};
+static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
+#endif
+
+// Number of sets of the 2x2 checkerboard; set index BTOCL_OVERFLOW_SET holds the overflow group
+// (constraints of dynamic bodies larger than a cell), solved after the four.
+#define BTOCL_NUM_SETS 4
+#define BTOCL_OVERFLOW_SET 4
+
+// Row kinds, in the order one solver iteration visits them (as btSequentialImpulseConstraintSolver:
+// joint rows, then all normal rows, then all friction rows, then rolling friction).
+#define BTOCL_PASS_JOINT 0
+#define BTOCL_PASS_NORMAL 1
+#define BTOCL_PASS_FRICTION 2
+#define BTOCL_PASS_ROLLING 3
+#define BTOCL_NUM_PASSES 4
+
+// One body as the solver sees it (btSolverBody). Static bodies: invMass 0, inertia 0.
+typedef struct {
+    btoclFloat4 invMass;          // xyz: inverse mass times linear factor; w: 1 if dynamic else 0
+    btoclFloat4 linearFactor;     // xyz
+    btoclFloat4 angularFactor;    // xyz
+    btoclFloat4 invInertiaRow0;   // world inverse inertia tensor, rows
+    btoclFloat4 invInertiaRow1;
+    btoclFloat4 invInertiaRow2;
+    btoclFloat4 centerOfMass;     // xyz: world position of the centre of mass
+    btoclFloat4 linearVelocity;   // xyz: velocity at the start of the step (kinematic: its velocity)
+    btoclFloat4 angularVelocity;  // xyz
+    btoclFloat4 externalForceImpulse;   // xyz: gravity and forces times dt/mass
+    btoclFloat4 externalTorqueImpulse;  // xyz
+} btoclBody;
+
+// What a step changes of a body; written by the solve, read back by the host.
+typedef struct {
+    btoclFloat4 deltaLinearVelocity;
+    btoclFloat4 deltaAngularVelocity;
+    btoclFloat4 pushVelocity;  // split impulse
+    btoclFloat4 turnVelocity;
+} btoclBodyDelta;
+
+// One constraint row (btSolverConstraint). Scalars live in the w lanes of the vectors.
+typedef struct {
+    btoclFloat4 contactNormal1;      // w: rhs
+    btoclFloat4 relpos1CrossNormal;  // w: rhsPenetration
+    btoclFloat4 contactNormal2;      // w: cfm
+    btoclFloat4 relpos2CrossNormal;  // w: jacDiagABInv
+    btoclFloat4 angularComponentA;   // w: lowerLimit
+    btoclFloat4 angularComponentB;   // w: upperLimit
+    btoclFloat4 impulses;            // x: appliedImpulse, y: appliedPushImpulse, z: friction, w: unused
+    int bodyA, bodyB;                // indices into the body arrays
+    int frictionIndex;               // friction rows: index of their normal row
+    int flags;
+} btoclRow;
+
+// The unit of batching: the rows of one body pair (a contact manifold, later a joint).
+// Its rows of each pass are contiguous: rows [firstRow[p], firstRow[p] + numRows[p]).
+typedef struct {
+    btoclFloat4 position;  // xyz: a point of the constraint (contact point) for the global split
+    int bodyA, bodyB;      // body indices; bodies with invMass.w == 0 never lock
+    int dynamicA, dynamicB;
+    int firstRow[BTOCL_NUM_PASSES];
+    int numRows[BTOCL_NUM_PASSES];
+} btoclConstraint;
+
+// A constraint group: one cell's constraints, ordered by batch, as a slice of the solve order.
+// Batch k of the group spans solveOrder[k == 0 ? offset : batchEnd[offset + k - 1],
+// batchEnd[offset + k]); batchEnd shares the group's offset since a group has at most `count` batches.
+typedef struct {
+    int offset;      // first position in solveOrder
+    int count;       // constraints in the group
+    int numBatches;
+    int cell;        // linear cell index (or -1 for the overflow group)
+} btoclGroup;
+
+#ifndef __OPENCL_VERSION__
+static_assert(sizeof(btoclBody) == 11 * 16, "btoclBody layout");
+static_assert(sizeof(btoclBodyDelta) == 4 * 16, "btoclBodyDelta layout");
+static_assert(sizeof(btoclRow) == 8 * 16, "btoclRow layout");
+static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
+static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
+#endif
+
+#endif
