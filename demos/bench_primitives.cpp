@@ -1,0 +1,122 @@
+// Times the device primitives of the global split, hand-written (chunked) against
+// Boost.Compute, at the sizes the solver sees. Prints JSON: ms median of `runs` after warm-up,
+// each timed from the first enqueue to the end of queue.finish().
+//   bench_primitives [runs=9] [keyRange=4096]
+#include "DevicePrimitives.h"
+#include "DeviceBuffer.h"
+#include "OclRuntime.h"
+
+#include <boost/compute/algorithm/detail/radix_sort.hpp>
+#include <boost/compute/command_queue.hpp>
+#include <boost/compute/iterator/buffer_iterator.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace btocl;
+namespace bc = boost::compute;
+
+namespace {
+
+double medianMs(const OclRuntime& rt, int runs, const std::function<void()>& prepare,
+                const std::function<void()>& work) {
+    std::vector<double> ms;
+    for (int r = -2; r < runs; ++r) {  // two warm-up runs
+        prepare();
+        rt.finish("prepare");
+        const auto t0 = std::chrono::steady_clock::now();
+        work();
+        rt.finish("work");
+        const auto t1 = std::chrono::steady_clock::now();
+        if (r >= 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    return ms[ms.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
+    const unsigned keyRange = argc > 2 ? unsigned(std::max(2, std::atoi(argv[2]))) : 4096;
+    try {
+        OclRuntime rt("");
+        std::fprintf(stderr, "device: %s; building both backends (Boost.Compute compiles at first use)\n",
+                     rt.deviceName().c_str());
+        DevicePrimitives chunked(rt, DevicePrimitives::Backend::Chunked);
+        DevicePrimitives boost(rt, DevicePrimitives::Backend::BoostCompute);
+        bc::command_queue bq(rt.queue()(), true);
+        unsigned keyBits = 1;
+        while ((1u << keyBits) < keyRange) ++keyBits;
+
+        std::printf("{\n  \"device\": \"%s\",\n  \"runs\": %d,\n  \"keyRange\": %u,\n  \"sizes\": [\n",
+                    rt.deviceName().c_str(), runs, keyRange);
+        const size_t sizes[] = {10000, 60000, 300000, 1000000};
+        for (size_t si = 0; si < 4; ++si) {
+            const size_t n = sizes[si];
+            std::mt19937 rng{unsigned(n)};
+            std::vector<cl_uint> keys(n), wide(n);
+            std::vector<cl_int> values(n);
+            for (size_t i = 0; i < n; ++i) {
+                keys[i] = rng() % keyRange;
+                wide[i] = rng();
+                values[i] = cl_int(i);
+            }
+            DeviceBuffer<cl_uint> k0, w0, k;
+            DeviceBuffer<cl_int> v0, v;
+            k0.write(rt, keys);
+            w0.write(rt, wide);
+            v0.write(rt, values);
+            k.reserve(rt, n);
+            v.reserve(rt, n);
+            auto restore = [&](const DeviceBuffer<cl_uint>& src) {
+                return [&rt, &src, &k, &v, &v0, n] {
+                    checkCl(rt.queue().enqueueCopyBuffer(src.buffer(), k.buffer(), 0, 0, n * 4), "restore");
+                    checkCl(rt.queue().enqueueCopyBuffer(v0.buffer(), v.buffer(), 0, 0, n * 4), "restore");
+                };
+            };
+            const auto smallKeys = restore(k0), wideKeys = restore(w0);
+            auto boostRadix = [&] {
+                bc::buffer kb(k.buffer()(), true), vb(v.buffer()(), true);
+                bc::detail::radix_sort_by_key(bc::make_buffer_iterator<bc::uint_>(kb, 0),
+                                              bc::make_buffer_iterator<bc::uint_>(kb, n),
+                                              bc::make_buffer_iterator<bc::int_>(vb, 0), bq);
+            };
+            std::fprintf(stderr, "n = %zu\n", n);
+            const double countSmall = medianMs(rt, runs, smallKeys, [&] {
+                chunked.sortByKeySmallRange(k.buffer(), v.buffer(), n, keyRange, false);
+            });
+            const double radixSmall = medianMs(rt, runs, smallKeys, [&] {
+                chunked.sortByKeyBits(k.buffer(), v.buffer(), n, keyBits, false);
+            });
+            const double radix32Small = medianMs(rt, runs, smallKeys, [&] { chunked.sortByKey(k.buffer(), v.buffer(), n); });
+            const double boostSmall = medianMs(rt, runs, smallKeys, [&] { boost.sortByKey(k.buffer(), v.buffer(), n); });
+            const double boostRadixSmall = medianMs(rt, runs, smallKeys, boostRadix);
+            const double radix32Wide = medianMs(rt, runs, wideKeys, [&] { chunked.sortByKey(k.buffer(), v.buffer(), n); });
+            const double boostWide = medianMs(rt, runs, wideKeys, [&] { boost.sortByKey(k.buffer(), v.buffer(), n); });
+            const double boostRadixWide = medianMs(rt, runs, wideKeys, boostRadix);
+            const double scanChunked = medianMs(rt, runs, [] {}, [&] { chunked.exclusiveScan(v0.buffer(), v.buffer(), n); });
+            const double scanBoost = medianMs(rt, runs, [] {}, [&] { boost.exclusiveScan(v0.buffer(), v.buffer(), n); });
+            std::printf("    {\"n\": %zu,\n"
+                        "     \"smallKeys_ms\": {\"chunked_counting\": %.3f, \"chunked_radix_%ubits\": %.3f, "
+                        "\"chunked_radix_32bits\": %.3f, \"boost_stable_sort_by_key\": %.3f, \"boost_radix\": %.3f},\n"
+                        "     \"randomUint32Keys_ms\": {\"chunked_radix_32bits\": %.3f, \"boost_stable_sort_by_key\": "
+                        "%.3f, \"boost_radix\": %.3f},\n"
+                        "     \"exclusiveScan_ms\": {\"chunked\": %.3f, \"boost\": %.3f}}%s\n",
+                        n, countSmall, keyBits, radixSmall, radix32Small, boostSmall, boostRadixSmall, radix32Wide,
+                        boostWide, boostRadixWide, scanChunked, scanBoost, si + 1 < 4 ? "," : "");
+            std::fflush(stdout);
+        }
+        std::printf("  ]\n}\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_primitives: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
