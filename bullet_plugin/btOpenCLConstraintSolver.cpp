@@ -1,13 +1,163 @@
 #include "btOpenCLConstraintSolver.h"
 
+#include "ConstraintBatches.h"
+#include "DeviceSolver.h"
 #include "OclRuntime.h"
+#include "SerialLayout.h"
+#include "SolveSettings.h"
+#include "StepProblem.h"
 
-// Skeleton: the device solve lands with the solver issue.
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btTransformUtil.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+btVector3 v3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
+
+}  // namespace
+
 struct btOpenCLConstraintSolver::Impl {
-    explicit Impl(const btOpenCLSolverConfig& c) : config(c), runtime(c.device) {}
+    explicit Impl(const btOpenCLSolverConfig& c)
+        : config(checked(c)), runtime(c.device), device(runtime, c.workGroupSize) {}
+
+    static const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
+        if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: workGroupSize must be a power of two in 1..1024, not " +
+                                      std::to_string(c.workGroupSize));
+        if (c.batchIterations < 1)
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+        if (!(c.cellSize >= 0) || !std::isfinite(c.cellSize))
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive length");
+        return c;
+    }
+
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
+    btocl::DeviceSolver device;
+    btocl::StepProblemBuilder builder;
     btOpenCLSolverStats stats;
+    bool inStep = false;       // between prepareSolve and allSolved
+    bool gathering = false;    // solveGroup has begun gathering this step
+    double msGather = 0;
+
+    void gather(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
+                const btContactSolverInfo& info) {
+        const auto t0 = Clock::now();
+        if (!gathering) {
+            builder.begin(info);
+            gathering = true;
+            msGather = 0;
+        }
+        builder.addBodies(bodies, numBodies);
+        builder.addManifolds(manifolds, numManifolds);
+        msGather += msSince(t0);
+    }
+
+    void run() {
+        if (!gathering) return;
+        gathering = false;
+        const auto tStart = Clock::now();
+        btOpenCLSolverStats s;
+        try {
+            auto t = Clock::now();
+            btocl::StepProblem& p = builder.finish();
+            const btContactSolverInfo& info = builder.info();
+            const btocl::SolveSettings settings = btocl::SolveSettings::from(info);
+            s.msGather = msGather + msSince(t);
+
+            t = Clock::now();
+            btocl::SplitParams params;
+            params.cellSize = float(config.cellSize);
+            params.batchIterations = config.batchIterations;
+            params.workGroupSize = config.workGroupSize;
+            // Until the device split and batching land: SI's own order, one constraint per batch.
+            const btocl::BatchLayout layout = btocl::buildSerialLayout(int(p.constraints.size()));
+            s.msSplit = msSince(t);
+
+            t = Clock::now();
+            device.upload(p);
+            const btocl::DeviceLayoutView view = device.uploadLayout(layout);
+            runtime.finish("uploading the step");
+            s.msUpload = msSince(t);
+
+            t = Clock::now();
+            device.iterate(p, view, settings);
+            runtime.finish("solving");
+            s.msSolve = msSince(t);
+
+            t = Clock::now();
+            s.numIterationsRun = device.download(p, settings);
+            s.msDownload = msSince(t);
+
+            t = Clock::now();
+            writeBack(p, info);
+            s.msWriteback = msSince(t);
+
+            fillCounts(s, p, layout);
+        } catch (...) {
+            builder.releaseBodies();  // leave the world as it was before the step's solve
+            throw;
+        }
+        s.msTotal = s.msGather + msSince(tStart);
+        stats = s;
+    }
+
+    // Velocities, split-impulse transforms and applied impulses back to Bullet (SI's solveGroupCacheFriendlyFinish).
+    void writeBack(const btocl::StepProblem& p, const btContactSolverInfo& info) {
+        if (info.m_solverMode & SOLVER_USE_WARMSTARTING) {
+            const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+            for (int i = 0; i < p.numNormalRows; ++i) {
+                btManifoldPoint* pt = p.pointOfNormalRow[size_t(i)];
+                pt->m_appliedImpulse = p.rows[size_t(i)].impulses.x;
+                const int f = p.frictionRowOfNormalRow[size_t(i)];
+                if (f >= 0) {
+                    pt->m_appliedImpulseLateral1 = p.rows[size_t(f)].impulses.x;
+                    if (two) pt->m_appliedImpulseLateral2 = p.rows[size_t(f) + 1].impulses.x;
+                }
+            }
+        }
+        for (size_t i = 1; i < p.original.size(); ++i) {
+            btRigidBody* rb = p.original[i];
+            const btoclBody& b = p.bodies[i];
+            const btoclBodyDelta& d = p.deltas[i];
+            const btVector3 linear = v3(b.linearVelocity) + v3(d.deltaLinearVelocity);
+            const btVector3 angular = v3(b.angularVelocity) + v3(d.deltaAngularVelocity);
+            rb->setLinearVelocity(linear + v3(b.externalForceImpulse));
+            rb->setAngularVelocity(angular + v3(b.externalTorqueImpulse));
+            if (info.m_splitImpulse) {
+                const btVector3 push = v3(d.pushVelocity), turn = v3(d.turnVelocity);
+                if (!push.isZero() || !turn.isZero()) {
+                    btTransform next;
+                    btTransformUtil::integrateTransform(p.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,
+                                                        info.m_timeStep, next);
+                    rb->setWorldTransform(next);
+                }
+            }
+            rb->setCompanionId(-1);
+        }
+    }
+
+    static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p, const btocl::BatchLayout& layout) {
+        s.numBodies = int(p.original.size()) - 1;
+        s.numContactPoints = p.numContactPoints();
+        s.numConstraintRows = p.numRows();
+        s.numJointRows = 0;
+        s.numCellGroups = int(layout.groups.size());
+        s.numOverflowConstraints = layout.numOverflowConstraints;
+        long total = 0;
+        for (const btoclGroup& g : layout.groups) {
+            s.numBatchesMax = std::max(s.numBatchesMax, g.numBatches);
+            total += g.numBatches;
+        }
+        s.numBatchesMean = layout.groups.empty() ? 0.0 : double(total) / double(layout.groups.size());
+    }
 };
 
 btOpenCLConstraintSolver::btOpenCLConstraintSolver() : btOpenCLConstraintSolver(btOpenCLSolverConfig{}) {}
@@ -15,13 +165,42 @@ btOpenCLConstraintSolver::btOpenCLConstraintSolver(const btOpenCLSolverConfig& c
     : m_impl(std::make_unique<Impl>(config)) {}
 btOpenCLConstraintSolver::~btOpenCLConstraintSolver() = default;
 
-void btOpenCLConstraintSolver::prepareSolve(int, int) {}
-btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject**, int, btPersistentManifold**, int,
-                                              btTypedConstraint**, int, const btContactSolverInfo&,
-                                              btIDebugDraw*, btDispatcher*) {
-    throw btOpenCLSolverError("btOpenCLConstraintSolver: solving is not implemented yet");
+void btOpenCLConstraintSolver::prepareSolve(int, int) {
+    m_impl->inStep = true;
+    m_impl->gathering = false;
 }
-void btOpenCLConstraintSolver::allSolved(const btContactSolverInfo&, btIDebugDraw*) {}
+
+btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int numBodies,
+                                              btPersistentManifold** manifolds, int numManifolds,
+                                              btTypedConstraint** constraints, int numConstraints,
+                                              const btContactSolverInfo& info, btIDebugDraw*, btDispatcher*) {
+    (void)constraints;
+    Impl& impl = *m_impl;
+    if (numConstraints > 0) {
+        if (impl.gathering) impl.builder.releaseBodies();
+        impl.gathering = false;
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
+                                  "remove them from the world or use btSequentialImpulseConstraintSolver");
+    }
+    if (info.m_timeStep <= 0 || info.m_numIterations < 0)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: the time step must be positive and the iteration count "
+                                  "not negative");
+    try {
+        impl.gather(bodies, numBodies, manifolds, numManifolds, info);
+    } catch (...) {
+        impl.builder.releaseBodies();
+        impl.gathering = false;
+        throw;
+    }
+    if (!impl.inStep) impl.run();  // called outside a prepareSolve/allSolved bracket: solve now
+    return 0;
+}
+
+void btOpenCLConstraintSolver::allSolved(const btContactSolverInfo&, btIDebugDraw*) {
+    m_impl->inStep = false;
+    m_impl->run();
+}
+
 void btOpenCLConstraintSolver::reset() {}
 btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return BT_SEQUENTIAL_IMPULSE_SOLVER; }
 const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { return m_impl->stats; }

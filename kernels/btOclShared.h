@@ -25,6 +25,20 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_PASS_FRICTION 2
 #define BTOCL_PASS_ROLLING 3
 #define BTOCL_NUM_PASSES 4
+// Split-impulse penetration pass: the normal rows again, on push and turn velocities.
+#define BTOCL_PASS_PENETRATION 4
+
+// Solver flags (btoclSolveParams.flags).
+#define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
+#define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
+
+// Slots of the control buffer that lets the device stop iterating without the host.
+#define BTOCL_CONTROL_STOPPED 0         // velocity iterations converged
+#define BTOCL_CONTROL_RESIDUAL 1        // max squared residual of this iteration, as float bits
+#define BTOCL_CONTROL_ITERATIONS 2      // velocity iterations run
+#define BTOCL_CONTROL_SPLIT_STOPPED 3   // split-impulse iterations converged
+#define BTOCL_CONTROL_SPLIT_RESIDUAL 4
+#define BTOCL_CONTROL_SIZE 8
 
 // One body as the solver sees it (btSolverBody). Static bodies: invMass 0, inertia 0.
 typedef struct {

@@ -1,0 +1,101 @@
+#include "DeviceSolver.h"
+
+namespace btocl {
+
+DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
+    : m_rt(runtime), m_workGroupSize(workGroupSize) {
+    m_program = m_rt.buildProgramFile("solve.cl");
+    m_solveSetPass = m_rt.makeKernel(m_program, "solveSetPass");
+    m_endIteration = m_rt.makeKernel(m_program, "endIteration");
+    m_gatherImpulses = m_rt.makeKernel(m_program, "gatherAppliedImpulses");
+}
+
+void DeviceSolver::upload(const StepProblem& p) {
+    m_bodies.write(m_rt, p.bodies);
+    m_deltas.write(m_rt, p.deltas);
+    m_constraints.write(m_rt, p.constraints);
+    m_rows.write(m_rt, p.rows);
+    m_control.fill(m_rt, 0, BTOCL_CONTROL_SIZE);
+}
+
+DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
+    m_groups.write(m_rt, layout.groups);
+    m_solveOrder.write(m_rt, layout.solveOrder);
+    m_batchEnd.write(m_rt, layout.batchEnd);
+    DeviceLayoutView view;
+    view.groups = &m_groups.buffer();
+    view.solveOrder = &m_solveOrder.buffer();
+    view.batchEnd = &m_batchEnd.buffer();
+    view.setGroupStart = layout.setGroupStart;
+    return view;
+}
+
+void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags) {
+    cl::Kernel& k = m_solveSetPass;
+    k.setArg(0, *layout.groups);
+    k.setArg(2, *layout.solveOrder);
+    k.setArg(3, *layout.batchEnd);
+    k.setArg(4, m_constraints.buffer());
+    k.setArg(5, m_rows.buffer());
+    k.setArg(6, m_bodies.buffer());
+    k.setArg(7, m_deltas.buffer());
+    k.setArg(8, m_control.buffer());
+    k.setArg(9, pass);
+    k.setArg(10, flags);
+    for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
+        const int first = layout.setGroupStart[size_t(set)];
+        const int count = layout.setGroupStart[size_t(set) + 1] - first;
+        if (count == 0) continue;
+        k.setArg(1, first);
+        checkCl(m_rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(count) * size_t(m_workGroupSize)),
+                                                  cl::NDRange(size_t(m_workGroupSize))),
+                "launching solveSetPass");
+    }
+}
+
+void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
+    if (p.numNormalRows == 0) return;
+    const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    auto endIteration = [&](int split) {
+        if (!track) return;
+        m_endIteration.setArg(0, m_control.buffer());
+        m_endIteration.setArg(1, s.residualThreshold);
+        m_endIteration.setArg(2, split);
+        checkCl(m_rt.queue().enqueueNDRangeKernel(m_endIteration, cl::NullRange, cl::NDRange(1)), "launching endIteration");
+    };
+    if (s.splitImpulse)
+        for (int it = 0; it < s.numIterations; ++it) {
+            launchPass(layout, BTOCL_PASS_PENETRATION, s.flags);
+            endIteration(1);
+        }
+    for (int it = 0; it < s.numIterations; ++it) {
+        launchPass(layout, BTOCL_PASS_NORMAL, s.flags);
+        if (p.numFrictionRows > 0) launchPass(layout, BTOCL_PASS_FRICTION, s.flags);
+        if (p.numRollingRows > 0) launchPass(layout, BTOCL_PASS_ROLLING, s.flags);
+        endIteration(0);
+    }
+}
+
+int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
+    m_deltas.read(m_rt, p.deltas.data(), p.deltas.size());
+    const int n = p.numNormalRows + p.numFrictionRows;
+    if (n > 0) {
+        m_impulses.reserve(m_rt, size_t(n));
+        m_gatherImpulses.setArg(0, m_rows.buffer());
+        m_gatherImpulses.setArg(1, m_impulses.buffer());
+        m_gatherImpulses.setArg(2, n);
+        const size_t wg = 64;
+        checkCl(m_rt.queue().enqueueNDRangeKernel(m_gatherImpulses, cl::NullRange,
+                                                  cl::NDRange((size_t(n) + wg - 1) / wg * wg), cl::NDRange(wg)),
+                "launching gatherAppliedImpulses");
+        m_impulsesHost.resize(size_t(n));
+        m_impulses.read(m_rt, m_impulsesHost.data(), size_t(n));
+        for (int i = 0; i < n; ++i) p.rows[size_t(i)].impulses.x = m_impulsesHost[size_t(i)];
+    }
+    if (!(s.flags & BTOCL_FLAG_TRACK_RESIDUAL)) return p.numNormalRows > 0 ? s.numIterations : 0;
+    int iterations = 0;
+    m_control.read(m_rt, &iterations, 1, nullptr, BTOCL_CONTROL_ITERATIONS);
+    return iterations;
+}
+
+}  // namespace btocl

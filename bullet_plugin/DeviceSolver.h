@@ -1,0 +1,56 @@
+// The iterations on the device: uploads a step's bodies and rows, launches one kernel per set
+// and pass for every iteration with no host round trip between them, and reads back the
+// velocity changes and applied impulses. Buffers are kept and grown from step to step.
+#pragma once
+
+#include "ConstraintBatches.h"
+#include "DeviceBuffer.h"
+#include "SolveSettings.h"
+#include "StepProblem.h"
+
+#include <array>
+
+namespace btocl {
+
+// Where the solve finds the split/batch layout: the device batcher's buffers or uploaded ones.
+struct DeviceLayoutView {
+    const cl::Buffer* groups = nullptr;
+    const cl::Buffer* solveOrder = nullptr;
+    const cl::Buffer* batchEnd = nullptr;
+    std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};
+};
+
+class DeviceSolver {
+public:
+    DeviceSolver(const OclRuntime& runtime, int workGroupSize);
+
+    // Copies bodies, deltas, constraints and rows to the device.
+    void upload(const StepProblem& p);
+    // Copies a host-built layout to this solver's own buffers.
+    DeviceLayoutView uploadLayout(const BatchLayout& layout);
+    // Enqueues every split-impulse and velocity iteration.
+    void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
+    // Reads back p.deltas and the applied impulse of every normal and friction row into p.rows.
+    // Returns the number of velocity iterations the device ran.
+    int download(StepProblem& p, const SolveSettings& settings);
+
+    const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
+
+private:
+    void launchPass(const DeviceLayoutView& layout, int pass, int flags);
+
+    const OclRuntime& m_rt;
+    int m_workGroupSize;
+    cl::Program m_program;
+    cl::Kernel m_solveSetPass, m_endIteration, m_gatherImpulses;
+    DeviceBuffer<btoclBody> m_bodies;
+    DeviceBuffer<btoclBodyDelta> m_deltas;
+    DeviceBuffer<btoclConstraint> m_constraints;
+    DeviceBuffer<btoclRow> m_rows;
+    DeviceBuffer<btoclGroup> m_groups;
+    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control;
+    DeviceBuffer<float> m_impulses;
+    std::vector<float> m_impulsesHost;
+};
+
+}  // namespace btocl

@@ -1,0 +1,28 @@
+// The parts of btContactSolverInfo that the iterations read.
+#pragma once
+
+#include "btOclShared.h"
+
+#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+
+namespace btocl {
+
+struct SolveSettings {
+    int numIterations = 10;
+    int flags = 0;               // BTOCL_FLAG_*
+    float residualThreshold = 0;
+    bool splitImpulse = false;
+
+    static SolveSettings from(const btContactSolverInfo& info) {
+        SolveSettings s;
+        s.numIterations = info.m_numIterations;
+        s.residualThreshold = info.m_leastSquaresResidualThreshold;
+        s.splitImpulse = info.m_splitImpulse != 0;
+        // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
+        if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
+        if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
+        return s;
+    }
+};
+
+}  // namespace btocl

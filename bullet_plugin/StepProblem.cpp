@@ -1,0 +1,449 @@
+#include "StepProblem.h"
+
+#include "btOpenCLConstraintSolver.h"
+
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <cmath>
+#include <string>
+
+namespace btocl {
+namespace {
+
+btoclFloat4 f4(const btVector3& v, float w = 0) { return {v.x(), v.y(), v.z(), w}; }
+btVector3 v3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
+
+bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// A row as btSolverConstraint holds it, before packing into the kernels' layout.
+struct RowValues {
+    btVector3 contactNormal1{0, 0, 0}, relpos1CrossNormal{0, 0, 0};
+    btVector3 contactNormal2{0, 0, 0}, relpos2CrossNormal{0, 0, 0};
+    btVector3 angularComponentA{0, 0, 0}, angularComponentB{0, 0, 0};
+    btScalar rhs = 0, rhsPenetration = 0, cfm = 0, jacDiagABInv = 0;
+    btScalar lowerLimit = 0, upperLimit = 0, appliedImpulse = 0, friction = 0;
+};
+
+btoclRow pack(const RowValues& r, int bodyA, int bodyB, int frictionIndex) {
+    btoclRow row;
+    row.contactNormal1 = f4(r.contactNormal1, r.rhs);
+    row.relpos1CrossNormal = f4(r.relpos1CrossNormal, r.rhsPenetration);
+    row.contactNormal2 = f4(r.contactNormal2, r.cfm);
+    row.relpos2CrossNormal = f4(r.relpos2CrossNormal, r.jacDiagABInv);
+    row.angularComponentA = f4(r.angularComponentA, r.lowerLimit);
+    row.angularComponentB = f4(r.angularComponentB, r.upperLimit);
+    row.impulses = {r.appliedImpulse, 0, r.friction, 0};
+    row.bodyA = bodyA;
+    row.bodyB = bodyB;
+    row.frictionIndex = frictionIndex;
+    row.flags = 0;
+    return row;
+}
+
+// The solver-body view that row setup reads (btSolverBody's fields).
+struct BodyView {
+    btRigidBody* rb;  // null for the fixed body
+    btVector3 linearVelocity, angularVelocity, externalForceImpulse, externalTorqueImpulse;
+
+    BodyView(btRigidBody* body, const btoclBody& b)
+        : rb(body), linearVelocity(v3(b.linearVelocity)), angularVelocity(v3(b.angularVelocity)),
+          externalForceImpulse(v3(b.externalForceImpulse)), externalTorqueImpulse(v3(b.externalTorqueImpulse)) {}
+
+    // btSolverBody::getVelocityInLocalPointNoDelta
+    btVector3 velocityNoDelta(const btVector3& relPos) const {
+        if (!rb) return btVector3(0, 0, 0);
+        return linearVelocity + externalForceImpulse + (angularVelocity + externalTorqueImpulse).cross(relPos);
+    }
+};
+
+void applyAnisotropicFriction(const btCollisionObject* object, btVector3& direction, int mode) {
+    if (!object || !object->hasAnisotropicFriction(mode)) return;
+    const btMatrix3x3& basis = object->getWorldTransform().getBasis();
+    btVector3 local = direction * basis;  // into the object's frame
+    local *= object->getAnisotropicFriction();
+    direction = basis * local;
+}
+
+// btSequentialImpulseConstraintSolver::setupFrictionConstraint
+RowValues frictionRow(const btVector3& axis, const BodyView& a, const BodyView& b, const btManifoldPoint& cp,
+                      const btVector3& relPos1, const btVector3& relPos2, btScalar relaxation,
+                      const btContactSolverInfo& info, btScalar desiredVelocity, btScalar cfmSlip) {
+    RowValues r;
+    r.friction = cp.m_combinedFriction;
+    if (a.rb) {
+        r.contactNormal1 = axis;
+        r.relpos1CrossNormal = relPos1.cross(r.contactNormal1);
+        r.angularComponentA = a.rb->getInvInertiaTensorWorld() * r.relpos1CrossNormal * a.rb->getAngularFactor();
+    }
+    if (b.rb) {
+        r.contactNormal2 = -axis;
+        r.relpos2CrossNormal = relPos2.cross(r.contactNormal2);
+        r.angularComponentB = b.rb->getInvInertiaTensorWorld() * r.relpos2CrossNormal * b.rb->getAngularFactor();
+    }
+    btScalar denom0 = 0, denom1 = 0;
+    if (a.rb) denom0 = a.rb->getInvMass() + axis.dot(r.angularComponentA.cross(relPos1));
+    if (b.rb) denom1 = b.rb->getInvMass() + axis.dot((-r.angularComponentB).cross(relPos2));
+    r.jacDiagABInv = relaxation / (denom0 + denom1);
+
+    const btVector3 zero(0, 0, 0);
+    const btScalar vel1Dotn = r.contactNormal1.dot(a.rb ? a.linearVelocity + a.externalForceImpulse : zero) +
+                              r.relpos1CrossNormal.dot(a.rb ? a.angularVelocity : zero);
+    const btScalar vel2Dotn = r.contactNormal2.dot(b.rb ? b.linearVelocity + b.externalForceImpulse : zero) +
+                              r.relpos2CrossNormal.dot(b.rb ? b.angularVelocity : zero);
+    const btScalar velocityImpulse = (desiredVelocity - (vel1Dotn + vel2Dotn)) * r.jacDiagABInv;
+    btScalar penetrationImpulse = 0;
+    if (cp.m_contactPointFlags & BT_CONTACT_FLAG_FRICTION_ANCHOR) {
+        const btScalar distance = (cp.getPositionWorldOnA() - cp.getPositionWorldOnB()).dot(axis);
+        penetrationImpulse = (-distance * info.m_frictionERP / info.m_timeStep) * r.jacDiagABInv;
+    }
+    r.rhs = penetrationImpulse + velocityImpulse;
+    r.cfm = cfmSlip;
+    r.lowerLimit = -r.friction;
+    r.upperLimit = r.friction;
+    return r;
+}
+
+// btSequentialImpulseConstraintSolver::setupTorsionalFrictionConstraint (rolling and spinning)
+RowValues torsionalRow(const btVector3& axis, const BodyView& a, const BodyView& b, btScalar friction) {
+    RowValues r;
+    r.friction = friction;
+    r.relpos1CrossNormal = -axis;
+    r.angularComponentA = a.rb ? a.rb->getInvInertiaTensorWorld() * r.relpos1CrossNormal * a.rb->getAngularFactor()
+                               : btVector3(0, 0, 0);
+    r.relpos2CrossNormal = axis;
+    r.angularComponentB = b.rb ? b.rb->getInvInertiaTensorWorld() * r.relpos2CrossNormal * b.rb->getAngularFactor()
+                               : btVector3(0, 0, 0);
+    const btVector3 iMJaA = a.rb ? a.rb->getInvInertiaTensorWorld() * r.relpos1CrossNormal : btVector3(0, 0, 0);
+    const btVector3 iMJaB = b.rb ? b.rb->getInvInertiaTensorWorld() * r.relpos2CrossNormal : btVector3(0, 0, 0);
+    r.jacDiagABInv = btScalar(1) / (iMJaA.dot(r.relpos1CrossNormal) + iMJaB.dot(r.relpos2CrossNormal));
+
+    const btVector3 zero(0, 0, 0);
+    const btScalar relVel = r.relpos1CrossNormal.dot(a.rb ? a.angularVelocity : zero) +
+                            r.relpos2CrossNormal.dot(b.rb ? b.angularVelocity : zero);
+    r.rhs = -relVel * r.jacDiagABInv;
+    r.lowerLimit = -r.friction;
+    r.upperLimit = r.friction;
+    return r;
+}
+
+}  // namespace
+
+void StepProblemBuilder::begin(const btContactSolverInfo& info) {
+    m_info = info;
+    StepProblem& p = m_problem;
+    p.original.assign(1, nullptr);
+    p.bodies.assign(1, btoclBody{});
+    p.deltas.assign(1, btoclBodyDelta{});
+    p.worldTransforms.assign(1, btTransform::getIdentity());
+    p.splitBodies.assign(1, SplitBody{});
+    p.constraints.clear();
+    p.rows.clear();
+    p.pointOfNormalRow.clear();
+    p.frictionRowOfNormalRow.clear();
+    p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
+    m_normalRows.clear();
+    m_frictionRows.clear();
+    m_rollingRows.clear();
+    m_frictionOfNormal.clear();
+    // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
+    p.bodies[0].linearFactor = {1, 1, 1, 0};
+    p.bodies[0].angularFactor = {1, 1, 1, 0};
+}
+
+int StepProblemBuilder::addSolverBody(btRigidBody* rb) {
+    const btScalar dt = m_info.m_timeStep;
+    const btTransform& xf = rb->getWorldTransform();
+    if (!finite(xf.getOrigin()) || !finite(rb->getLinearVelocity()) || !finite(rb->getAngularVelocity()) ||
+        !finite(rb->getTotalForce()) || !finite(rb->getTotalTorque()))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a rigid body has a non-finite position, velocity or force "
+                                  "(body at index " + std::to_string(rb->getWorldArrayIndex()) + " of the world)");
+
+    btoclBody b{};
+    const btScalar invMass = rb->getInvMass();
+    b.invMass = f4(btVector3(invMass, invMass, invMass) * rb->getLinearFactor(), invMass != 0 ? 1.f : 0.f);
+    b.linearFactor = f4(rb->getLinearFactor());
+    b.angularFactor = f4(rb->getAngularFactor());
+    const btMatrix3x3& I = rb->getInvInertiaTensorWorld();
+    b.invInertiaRow0 = f4(I[0]);
+    b.invInertiaRow1 = f4(I[1]);
+    b.invInertiaRow2 = f4(I[2]);
+    b.centerOfMass = f4(xf.getOrigin());
+    b.linearVelocity = f4(rb->getLinearVelocity());
+    b.angularVelocity = f4(rb->getAngularVelocity());
+    b.externalForceImpulse = f4(rb->getTotalForce() * invMass * dt);
+    btVector3 torqueImpulse = rb->getTotalTorque() * I * dt;
+    if (invMass != 0) {  // gyroscopic terms, as SI's convertBodies
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT)
+            torqueImpulse -= rb->computeGyroscopicForceExplicit(m_info.m_maxGyroscopicForce) * I * dt;
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD)
+            torqueImpulse += rb->computeGyroscopicImpulseImplicit_World(dt);
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
+            torqueImpulse += rb->computeGyroscopicImpulseImplicit_Body(dt);
+    }
+    b.externalTorqueImpulse = f4(torqueImpulse);
+
+    SplitBody split;
+    split.dynamic = invMass != 0;
+    if (split.dynamic) {
+        btVector3 lo, hi;
+        rb->getCollisionShape()->getAabb(xf, lo, hi);
+        const btVector3 size = hi - lo;
+        split.extent = float(size[size.maxAxis()]);
+    }
+
+    StepProblem& p = m_problem;
+    const int index = int(p.bodies.size());
+    p.original.push_back(rb);
+    p.bodies.push_back(b);
+    p.deltas.push_back(btoclBodyDelta{});
+    p.worldTransforms.push_back(xf);
+    p.splitBodies.push_back(split);
+    rb->setCompanionId(index);
+    return index;
+}
+
+// SI's getOrInitSolverBody: dynamic and kinematic rigid bodies get their own solver body, every
+// other object maps to the fixed body.
+int StepProblemBuilder::solverBodyOf(btCollisionObject* object) {
+    const int id = object->getCompanionId();
+    if (id > 0 && id < int(m_problem.original.size()) && m_problem.original[id] == object) return id;
+    btRigidBody* rb = btRigidBody::upcast(object);
+    if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) return addSolverBody(rb);
+    return 0;
+}
+
+void StepProblemBuilder::addBodies(btCollisionObject* const* bodies, int numBodies) {
+    for (int i = 0; i < numBodies; ++i) solverBodyOf(bodies[i]);
+}
+
+void StepProblemBuilder::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
+    for (int i = 0; i < numManifolds; ++i) addManifold(manifolds[i]);
+}
+
+// btSequentialImpulseConstraintSolver::convertContact, rows appended per pass.
+void StepProblemBuilder::addManifold(btPersistentManifold* manifold) {
+    btCollisionObject* obj0 = const_cast<btCollisionObject*>(manifold->getBody0());
+    btCollisionObject* obj1 = const_cast<btCollisionObject*>(manifold->getBody1());
+    const int idA = solverBodyOf(obj0);
+    const int idB = solverBodyOf(obj1);
+    StepProblem& p = m_problem;
+    // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
+    if (v3(p.bodies[idA].invMass).fuzzyZero() && v3(p.bodies[idB].invMass).fuzzyZero()) return;
+
+    const btContactSolverInfo& info = m_info;
+    const int mode = info.m_solverMode;
+    const btScalar invDt = btScalar(1) / info.m_timeStep;
+    const BodyView a(p.original[idA], p.bodies[idA]);
+    const BodyView b(p.original[idB], p.bodies[idB]);
+
+    btoclConstraint c{};
+    c.bodyA = idA;
+    c.bodyB = idB;
+    c.dynamicA = p.bodies[idA].invMass.w != 0;
+    c.dynamicB = p.bodies[idB].invMass.w != 0;
+    c.firstRow[BTOCL_PASS_NORMAL] = int(m_normalRows.size());
+    c.firstRow[BTOCL_PASS_FRICTION] = int(m_frictionRows.size());
+    c.firstRow[BTOCL_PASS_ROLLING] = int(m_rollingRows.size());
+    btVector3 pointSum(0, 0, 0);
+
+    for (int j = 0; j < manifold->getNumContacts(); ++j) {
+        btManifoldPoint& cp = manifold->getContactPoint(j);
+        if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
+        if (!finite(cp.getPositionWorldOnA()) || !finite(cp.getPositionWorldOnB()) || !finite(cp.m_normalWorldOnB) ||
+            !std::isfinite(cp.getDistance()))
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: a contact point has a non-finite position, normal "
+                                      "or distance");
+
+        const int normalIndex = int(m_normalRows.size());
+        const btVector3 relPos1 = cp.getPositionWorldOnA() - obj0->getWorldTransform().getOrigin();
+        const btVector3 relPos2 = cp.getPositionWorldOnB() - obj1->getWorldTransform().getOrigin();
+        const btVector3 vel = a.velocityNoDelta(relPos1) - b.velocityNoDelta(relPos2);
+        const btScalar relVel = cp.m_normalWorldOnB.dot(vel);
+        pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
+
+        // --- the normal row (setupContactConstraint) ---
+        RowValues n;
+        const btScalar relaxation = info.m_sor;
+        btScalar cfm = info.m_globalCfm;
+        btScalar erp = info.m_erp2;
+        if (cp.m_contactPointFlags & (BT_CONTACT_FLAG_HAS_CONTACT_CFM | BT_CONTACT_FLAG_HAS_CONTACT_ERP)) {
+            if (cp.m_contactPointFlags & BT_CONTACT_FLAG_HAS_CONTACT_CFM) cfm = cp.m_contactCFM;
+            if (cp.m_contactPointFlags & BT_CONTACT_FLAG_HAS_CONTACT_ERP) erp = cp.m_contactERP;
+        } else if (cp.m_contactPointFlags & BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING) {
+            btScalar denom = info.m_timeStep * cp.m_combinedContactStiffness1 + cp.m_combinedContactDamping1;
+            if (denom < SIMD_EPSILON) denom = SIMD_EPSILON;
+            cfm = btScalar(1) / denom;
+            erp = (info.m_timeStep * cp.m_combinedContactStiffness1) / denom;
+        }
+        cfm *= invDt;
+
+        const btVector3 torqueAxis0 = relPos1.cross(cp.m_normalWorldOnB);
+        const btVector3 torqueAxis1 = relPos2.cross(cp.m_normalWorldOnB);
+        if (a.rb) n.angularComponentA = a.rb->getInvInertiaTensorWorld() * torqueAxis0 * a.rb->getAngularFactor();
+        if (b.rb) n.angularComponentB = b.rb->getInvInertiaTensorWorld() * -torqueAxis1 * b.rb->getAngularFactor();
+        btScalar denom0 = 0, denom1 = 0;
+        if (a.rb) denom0 = a.rb->getInvMass() + cp.m_normalWorldOnB.dot(n.angularComponentA.cross(relPos1));
+        if (b.rb) denom1 = b.rb->getInvMass() + cp.m_normalWorldOnB.dot((-n.angularComponentB).cross(relPos2));
+        n.jacDiagABInv = relaxation / (denom0 + denom1 + cfm);
+        if (a.rb) {
+            n.contactNormal1 = cp.m_normalWorldOnB;
+            n.relpos1CrossNormal = torqueAxis0;
+        }
+        if (b.rb) {
+            n.contactNormal2 = -cp.m_normalWorldOnB;
+            n.relpos2CrossNormal = -torqueAxis1;
+        }
+        const btScalar penetration = cp.getDistance() + info.m_linearSlop;
+        btScalar restitution = 0;
+        {
+            const btVector3 vel1 = a.rb ? a.rb->getVelocityInLocalPoint(relPos1) : btVector3(0, 0, 0);
+            const btVector3 vel2 = b.rb ? b.rb->getVelocityInLocalPoint(relPos2) : btVector3(0, 0, 0);
+            const btScalar rv = cp.m_normalWorldOnB.dot(vel1 - vel2);
+            n.friction = cp.m_combinedFriction;
+            if (btFabs(rv) >= info.m_restitutionVelocityThreshold) restitution = cp.m_combinedRestitution * -rv;
+            if (restitution <= 0) restitution = 0;
+        }
+        if (mode & SOLVER_USE_WARMSTARTING) {
+            n.appliedImpulse = cp.m_appliedImpulse * info.m_warmstartingFactor;
+            // btSolverBody::internalApplyImpulse, as SI applies the warm start.
+            auto apply = [&](int id, const btVector3& linear, const btVector3& angular, btScalar impulse) {
+                btoclBodyDelta& d = p.deltas[id];
+                const btoclBody& body = p.bodies[id];
+                d.deltaLinearVelocity = f4(v3(d.deltaLinearVelocity) + linear * impulse * v3(body.linearFactor));
+                d.deltaAngularVelocity =
+                    f4(v3(d.deltaAngularVelocity) + angular * (impulse * v3(body.angularFactor)));
+            };
+            if (a.rb) apply(idA, n.contactNormal1 * v3(p.bodies[idA].invMass), n.angularComponentA, n.appliedImpulse);
+            if (b.rb)
+                apply(idB, -n.contactNormal2 * v3(p.bodies[idB].invMass), -n.angularComponentB, -n.appliedImpulse);
+        }
+        {
+            const btVector3 zero(0, 0, 0);
+            const btScalar vel1Dotn =
+                n.contactNormal1.dot(a.linearVelocity + (a.rb ? a.externalForceImpulse : zero)) +
+                n.relpos1CrossNormal.dot(a.angularVelocity + (a.rb ? a.externalTorqueImpulse : zero));
+            const btScalar vel2Dotn =
+                n.contactNormal2.dot(b.linearVelocity + (b.rb ? b.externalForceImpulse : zero)) +
+                n.relpos2CrossNormal.dot(b.angularVelocity + (b.rb ? b.externalTorqueImpulse : zero));
+            btScalar velocityError = restitution - (vel1Dotn + vel2Dotn);
+            btScalar positionalError = 0;
+            if (penetration > 0)
+                velocityError -= penetration * invDt;
+            else
+                positionalError = -penetration * erp * invDt;
+            const btScalar penetrationImpulse = positionalError * n.jacDiagABInv;
+            const btScalar velocityImpulse = velocityError * n.jacDiagABInv;
+            if (!info.m_splitImpulse || penetration > info.m_splitImpulsePenetrationThreshold) {
+                n.rhs = penetrationImpulse + velocityImpulse;
+                n.rhsPenetration = 0;
+            } else {
+                n.rhs = velocityImpulse;
+                n.rhsPenetration = penetrationImpulse;
+            }
+            n.cfm = cfm * n.jacDiagABInv;
+            n.lowerLimit = 0;
+            n.upperLimit = 1e10f;
+        }
+        m_normalRows.push_back(pack(n, idA, idB, -1));
+        p.pointOfNormalRow.push_back(&cp);
+        m_frictionOfNormal.push_back(int(m_frictionRows.size()));
+
+        // --- rolling and spinning friction (addTorsionalFrictionConstraint) ---
+        if (cp.m_combinedRollingFriction > 0) {
+            m_rollingRows.push_back(pack(torsionalRow(cp.m_normalWorldOnB, a, b, cp.m_combinedSpinningFriction),
+                                         idA, idB, normalIndex));
+            btVector3 axis0, axis1;
+            btPlaneSpace1(cp.m_normalWorldOnB, axis0, axis1);
+            axis0.normalize();
+            axis1.normalize();
+            applyAnisotropicFriction(obj0, axis0, btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+            applyAnisotropicFriction(obj1, axis0, btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+            applyAnisotropicFriction(obj0, axis1, btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+            applyAnisotropicFriction(obj1, axis1, btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+            if (axis0.length() > 0.001)
+                m_rollingRows.push_back(pack(torsionalRow(axis0, a, b, cp.m_combinedRollingFriction), idA, idB, normalIndex));
+            if (axis1.length() > 0.001)
+                m_rollingRows.push_back(pack(torsionalRow(axis1, a, b, cp.m_combinedRollingFriction), idA, idB, normalIndex));
+        }
+
+        // --- friction rows: direction from the sliding velocity, the plane space, or the cache ---
+        auto addFriction = [&](const btVector3& axis, btScalar desiredVelocity, btScalar cfmSlip) {
+            m_frictionRows.push_back(pack(frictionRow(axis, a, b, cp, relPos1, relPos2, relaxation, info,
+                                                      desiredVelocity, cfmSlip),
+                                          idA, idB, normalIndex));
+        };
+        const bool twoDirections = (mode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+        if (!(mode & SOLVER_ENABLE_FRICTION_DIRECTION_CACHING) ||
+            !(cp.m_contactPointFlags & BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED)) {
+            cp.m_lateralFrictionDir1 = vel - cp.m_normalWorldOnB * relVel;
+            const btScalar latRelVel = cp.m_lateralFrictionDir1.length2();
+            if (!(mode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION) && latRelVel > SIMD_EPSILON) {
+                cp.m_lateralFrictionDir1 *= 1.f / btSqrt(latRelVel);
+                applyAnisotropicFriction(obj0, cp.m_lateralFrictionDir1, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                applyAnisotropicFriction(obj1, cp.m_lateralFrictionDir1, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                addFriction(cp.m_lateralFrictionDir1, 0, 0);
+                if (twoDirections) {
+                    cp.m_lateralFrictionDir2 = cp.m_lateralFrictionDir1.cross(cp.m_normalWorldOnB);
+                    cp.m_lateralFrictionDir2.normalize();
+                    applyAnisotropicFriction(obj0, cp.m_lateralFrictionDir2, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                    applyAnisotropicFriction(obj1, cp.m_lateralFrictionDir2, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                    addFriction(cp.m_lateralFrictionDir2, 0, 0);
+                }
+            } else {
+                btPlaneSpace1(cp.m_normalWorldOnB, cp.m_lateralFrictionDir1, cp.m_lateralFrictionDir2);
+                applyAnisotropicFriction(obj0, cp.m_lateralFrictionDir1, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                applyAnisotropicFriction(obj1, cp.m_lateralFrictionDir1, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                addFriction(cp.m_lateralFrictionDir1, 0, 0);
+                if (twoDirections) {
+                    applyAnisotropicFriction(obj0, cp.m_lateralFrictionDir2, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                    applyAnisotropicFriction(obj1, cp.m_lateralFrictionDir2, btCollisionObject::CF_ANISOTROPIC_FRICTION);
+                    addFriction(cp.m_lateralFrictionDir2, 0, 0);
+                }
+                if (twoDirections && (mode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION))
+                    cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+            }
+        } else {
+            addFriction(cp.m_lateralFrictionDir1, cp.m_contactMotion1, cp.m_frictionCFM);
+            if (twoDirections) addFriction(cp.m_lateralFrictionDir2, cp.m_contactMotion2, cp.m_frictionCFM);
+        }
+    }
+
+    c.numRows[BTOCL_PASS_NORMAL] = int(m_normalRows.size()) - c.firstRow[BTOCL_PASS_NORMAL];
+    c.numRows[BTOCL_PASS_FRICTION] = int(m_frictionRows.size()) - c.firstRow[BTOCL_PASS_FRICTION];
+    c.numRows[BTOCL_PASS_ROLLING] = int(m_rollingRows.size()) - c.firstRow[BTOCL_PASS_ROLLING];
+    if (c.numRows[BTOCL_PASS_NORMAL] == 0) return;
+    c.position = f4(pointSum / btScalar(c.numRows[BTOCL_PASS_NORMAL]));
+    p.constraints.push_back(c);
+}
+
+StepProblem& StepProblemBuilder::finish() {
+    StepProblem& p = m_problem;
+    p.numNormalRows = int(m_normalRows.size());
+    p.numFrictionRows = int(m_frictionRows.size());
+    p.numRollingRows = int(m_rollingRows.size());
+    const int frictionBase = p.numNormalRows;
+    const int rollingBase = frictionBase + p.numFrictionRows;
+    p.rows.clear();
+    p.rows.reserve(size_t(rollingBase + p.numRollingRows));
+    p.rows.insert(p.rows.end(), m_normalRows.begin(), m_normalRows.end());
+    p.rows.insert(p.rows.end(), m_frictionRows.begin(), m_frictionRows.end());
+    p.rows.insert(p.rows.end(), m_rollingRows.begin(), m_rollingRows.end());
+    for (btoclConstraint& c : p.constraints) {
+        c.firstRow[BTOCL_PASS_FRICTION] += frictionBase;
+        c.firstRow[BTOCL_PASS_ROLLING] += rollingBase;
+    }
+    p.frictionRowOfNormalRow.resize(size_t(p.numNormalRows));
+    for (int i = 0; i < p.numNormalRows; ++i) {
+        const int next = i + 1 < p.numNormalRows ? m_frictionOfNormal[size_t(i) + 1] : p.numFrictionRows;
+        p.frictionRowOfNormalRow[size_t(i)] = m_frictionOfNormal[size_t(i)] < next ? frictionBase + m_frictionOfNormal[size_t(i)] : -1;
+    }
+    return p;
+}
+
+void StepProblemBuilder::releaseBodies() {
+    for (size_t i = 1; i < m_problem.original.size(); ++i) m_problem.original[i]->setCompanionId(-1);
+}
+
+}  // namespace btocl
