@@ -1,0 +1,27 @@
+// The JSON summary of a side-by-side run.
+#pragma once
+
+#include "BenchOptions.h"
+#include "JsonValue.h"
+#include "Scenes.h"
+#include "SolverSide.h"
+
+#include <string>
+#include <vector>
+
+namespace btbench {
+
+struct RunFacts {
+    const SceneInfo* scene = nullptr;
+    int size = 0, steps = 0, driftFromStep = 0;
+    btScalar divergenceFinal = 0, divergenceMax = 0;  // same body, SI world vs ours (when both ran)
+    bool compared = false;                           // both sides stepped at least once
+    std::string deviceName, pngFile;
+    int pngFrame = -1;
+    std::vector<std::string> pngPanels;  // names of the sides drawn, left to right
+    double wallSeconds = 0;
+};
+
+JsonValue summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si, const SolverSide* ours);
+
+}  // namespace btbench

@@ -1,0 +1,57 @@
+#include "Quality.h"
+
+#include <algorithm>
+
+namespace btbench {
+
+btScalar minContactDistance(SceneWorld& w) {
+    btScalar minDistance = 0;
+    btCollisionDispatcher& d = w.dispatcher();
+    for (int m = 0; m < d.getNumManifolds(); ++m) {
+        const btPersistentManifold* manifold = d.getManifoldByIndexInternal(m);
+        for (int p = 0; p < manifold->getNumContacts(); ++p)
+            minDistance = std::min(minDistance, manifold->getContactPoint(p).getDistance());
+    }
+    return minDistance;
+}
+
+double kineticEnergy(const SceneWorld& w) {
+    double energy = 0;
+    for (const BodyRecord& r : w.bodies()) {
+        if (!r.dynamic) continue;
+        const btRigidBody* b = r.body;
+        const btVector3 v = b->getLinearVelocity(), omega = b->getAngularVelocity();
+        const btScalar mass = b->getInvMass() > 0 ? 1 / b->getInvMass() : 0;
+        // The inertia is diagonal in the body frame: w . I w = sum of w_local[k]^2 / invI_local[k].
+        const btMatrix3x3& basis = b->getWorldTransform().getBasis();
+        const btVector3 local = omega * basis;  // R^T omega
+        const btVector3 invI = b->getInvInertiaDiagLocal();
+        double rot = 0;
+        for (int k = 0; k < 3; ++k)
+            if (invI[k] > 0) rot += double(local[k]) * double(local[k]) / double(invI[k]);
+        energy += 0.5 * double(mass) * double(v.length2()) + 0.5 * rot;
+    }
+    return energy;
+}
+
+std::vector<btVector3> dynamicPositions(const SceneWorld& w) {
+    std::vector<btVector3> out;
+    for (const BodyRecord& r : w.bodies())
+        if (r.dynamic) out.push_back(r.body->getCenterOfMassPosition());
+    return out;
+}
+
+btScalar maxDistance(const std::vector<btVector3>& a, const std::vector<btVector3>& b) {
+    btScalar worst = 0;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, a[i].distance(b[i]));
+    return worst;
+}
+
+btScalar maxCentreHeight(const SceneWorld& w) {
+    btScalar top = -BT_LARGE_FLOAT;
+    for (const BodyRecord& r : w.bodies())
+        if (r.dynamic) top = std::max(top, r.body->getCenterOfMassPosition().y());
+    return top;
+}
+
+}  // namespace btbench

@@ -1,0 +1,26 @@
+// Quality measures of a simulated scene, taken the same way for both solvers' worlds.
+#pragma once
+
+#include "SceneWorld.h"
+
+#include <vector>
+
+namespace btbench {
+
+// Most negative contact distance over every contact point in the world (0 when none is
+// negative): the deepest penetration, as a negative number.
+btScalar minContactDistance(SceneWorld& w);
+
+// Sum over dynamic bodies of 1/2 m v^2 + 1/2 w . I w.
+double kineticEnergy(const SceneWorld& w);
+
+// Centres of mass of the dynamic bodies, in body order.
+std::vector<btVector3> dynamicPositions(const SceneWorld& w);
+
+// Largest distance between the same body in two position lists of equal length.
+btScalar maxDistance(const std::vector<btVector3>& a, const std::vector<btVector3>& b);
+
+// Highest point of any dynamic box's centre (shows whether a stack still stands).
+btScalar maxCentreHeight(const SceneWorld& w);
+
+}  // namespace btbench

@@ -1,0 +1,38 @@
+#include "ScenePicture.h"
+
+namespace btbench {
+
+namespace {
+
+// A few distinct, light colours; neighbouring bodies (consecutive indices) differ.
+btVector3 bodyColour(size_t index) {
+    static const btVector3 palette[] = {
+        {0.90f, 0.45f, 0.35f}, {0.95f, 0.75f, 0.30f}, {0.45f, 0.75f, 0.45f},
+        {0.40f, 0.60f, 0.90f}, {0.75f, 0.50f, 0.85f}, {0.85f, 0.85f, 0.80f},
+    };
+    return palette[(index * 7 + index / 6) % (sizeof palette / sizeof palette[0])];
+}
+
+std::vector<RenderBox> boxesOf(const SceneWorld& w, bool dynamicOnly) {
+    std::vector<RenderBox> boxes;
+    const auto& bodies = w.bodies();
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        if (dynamicOnly && !bodies[i].dynamic) continue;
+        const btVector3 colour = bodies[i].dynamic ? bodyColour(i) : btVector3(0.55f, 0.55f, 0.52f);
+        boxes.push_back({bodies[i].body->getWorldTransform(), bodies[i].halfExtents, colour});
+    }
+    return boxes;
+}
+
+}  // namespace
+
+Image drawWorlds(const std::vector<const SceneWorld*>& worlds, int panelWidth, int panelHeight) {
+    Image image(panelWidth * int(worlds.size() > 0 ? worlds.size() : 1), panelHeight);
+    if (worlds.empty()) return image;
+    const Camera camera = fitCamera(boxesOf(*worlds[0], true));
+    for (size_t i = 0; i < worlds.size(); ++i)
+        renderBoxes(boxesOf(*worlds[i], false), camera, image, int(i) * panelWidth, panelWidth);
+    return image;
+}
+
+}  // namespace btbench

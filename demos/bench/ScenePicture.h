@@ -1,0 +1,14 @@
+// Picture of one or more worlds of the same scene, side by side, from one camera.
+#pragma once
+
+#include "Raster.h"
+#include "SceneWorld.h"
+
+#include <vector>
+
+namespace btbench {
+
+// One panel per world, left to right; the camera is fitted to the first world's dynamic boxes.
+Image drawWorlds(const std::vector<const SceneWorld*>& worlds, int panelWidth, int panelHeight);
+
+}  // namespace btbench

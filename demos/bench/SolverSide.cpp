@@ -1,0 +1,78 @@
+#include "SolverSide.h"
+
+#include "Quality.h"
+
+#include <algorithm>
+#include <exception>
+
+namespace btbench {
+
+std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind kind, const SceneInfo& sceneInfo, int size,
+                                           int iterations, const btOpenCLSolverConfig& config) {
+    auto side = std::make_unique<SolverSide>();
+    side->name = name;
+    side->kind = kind;
+    btConstraintSolver* inner = nullptr;
+    try {
+        if (kind == SolverKind::OpenCL) {
+            side->ocl = std::make_unique<btOpenCLConstraintSolver>(config);
+            inner = side->ocl.get();
+        } else {
+            side->si = std::make_unique<CountingSISolver>();
+            inner = side->si.get();
+        }
+    } catch (const std::exception& e) {
+        side->error = std::string("constructing the solver: ") + e.what();
+        return side;
+    }
+    side->timed = std::make_unique<TimedSolver>(*inner);
+    side->scene = std::make_unique<SceneWorld>(side->timed.get());
+    side->scene->world().getSolverInfo().m_numIterations = iterations;
+    sceneInfo.build(*side->scene, size);
+    side->alive = true;
+    return side;
+}
+
+void stepSolverSide(SolverSide& side, double dt) {
+    if (!side.alive) return;
+    side.timed->beginStep();
+    try {
+        // maxSubSteps 0: exactly one internal step of dt, no interpolation.
+        side.scene->world().stepSimulation(btScalar(dt), 0);
+    } catch (const std::exception& e) {
+        side.alive = false;
+        side.error = "step " + std::to_string(side.stepsDone + 1) + ": " + e.what();
+        return;
+    }
+    side.stepsDone += 1;
+    const SolverStepCounts& c = side.timed->step();
+    side.msPerStep.push_back(c.ms);
+    side.lastCounts = c;
+    side.maxContactPoints = std::max(side.maxContactPoints, c.contactPoints);
+    if (side.si) side.lastRows = side.si->rowsThisStep();
+    if (side.ocl) {
+        const btOpenCLSolverStats& s = side.ocl->getLastStats();
+        side.lastStats = s;
+        side.lastRows = s.numConstraintRows;
+        PhaseSamples& p = side.phases;
+        p.gather.push_back(s.msGather);
+        p.upload.push_back(s.msUpload);
+        p.setup.push_back(s.msSetup);
+        p.split.push_back(s.msSplit);
+        p.batch.push_back(s.msBatch);
+        p.solve.push_back(s.msSolve);
+        p.writeback.push_back(s.msWriteback);
+        p.download.push_back(s.msDownload);
+        p.total.push_back(s.msTotal);
+    }
+}
+
+void trackQuality(SolverSide& side, bool setDriftReference) {
+    if (!side.scene) return;
+    side.minDistance = std::min(side.minDistance, minContactDistance(*side.scene));
+    if (setDriftReference) side.driftReference = dynamicPositions(*side.scene);
+    if (!side.driftReference.empty())
+        side.maxDrift = std::max(side.maxDrift, maxDistance(dynamicPositions(*side.scene), side.driftReference));
+}
+
+}  // namespace btbench

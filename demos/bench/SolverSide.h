@@ -1,0 +1,60 @@
+// One side of the side-by-side run: a solver (Bullet's SI or ours), the timing decorator around
+// it, the world it steps, and what was measured on it step by step.
+#pragma once
+
+#include "CountingSISolver.h"
+#include "SceneWorld.h"
+#include "Scenes.h"
+#include "TimedSolver.h"
+
+#include <btOpenCLConstraintSolver.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace btbench {
+
+enum class SolverKind { BulletSI, OpenCL };
+
+// Phases of ours, read from getLastStats() after every step.
+struct PhaseSamples {
+    std::vector<double> gather, upload, setup, split, batch, solve, writeback, download, total;
+};
+
+struct SolverSide {
+    std::string name;  // "si" or "ours"
+    SolverKind kind = SolverKind::BulletSI;
+    std::unique_ptr<CountingSISolver> si;
+    std::unique_ptr<btOpenCLConstraintSolver> ocl;
+    std::unique_ptr<TimedSolver> timed;
+    std::unique_ptr<SceneWorld> scene;
+
+    bool alive = false;       // false once the solver threw (the world is not stepped again)
+    std::string error;        // what it threw, or why it could not be made
+    int stepsDone = 0;
+
+    std::vector<double> msPerStep;  // solver wall time of each step
+    PhaseSamples phases;
+    SolverStepCounts lastCounts;
+    int lastRows = 0, maxContactPoints = 0;
+    btOpenCLSolverStats lastStats;
+
+    // Quality, tracked over the run.
+    btScalar minDistance = 0;               // most negative contact distance seen
+    std::vector<btVector3> driftReference;  // positions at the drift reference step
+    btScalar maxDrift = 0;
+};
+
+// Builds the solver and the scene's world around it. A solver that cannot be made (no OpenCL
+// device, kernel build failure) leaves the side not alive with the reason in `error`.
+std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind kind, const SceneInfo& scene, int size,
+                                           int iterations, const btOpenCLSolverConfig& config);
+
+// One world step of dt; records the timings and counts. Catches what the solver throws.
+void stepSolverSide(SolverSide& side, double dt);
+
+// Quality bookkeeping after a step: penetration, and drift from the reference once set.
+void trackQuality(SolverSide& side, bool setDriftReference);
+
+}  // namespace btbench
