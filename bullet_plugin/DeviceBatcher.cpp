@@ -1,0 +1,211 @@
+#include "DeviceBatcher.h"
+
+#include "btOpenCLConstraintSolver.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace btocl {
+namespace {
+
+constexpr int kSortChunks = 128;      // work-items of the radix passes, each owning a histogram column
+constexpr int kRadixBins = 256;       // SPLIT_RADIX_BINS in split.cl
+constexpr int kScanWorkGroup = 256;   // SPLIT_SCAN_WG in split.cl
+constexpr int kSummaryInts = BTOCL_NUM_SETS + 4;
+constexpr int kPreferredWindow = 512; // constraints per streamed chunk; big enough that a batch
+                                      // of a dense cell is not cut short by the window
+
+int tableBitsFor(int window) {
+    int bits = 1;
+    while ((1 << bits) < 4 * window) ++bits;  // at most 2 bodies per constraint: load <= 1/2
+    return bits;
+}
+
+size_t batchLocalBytes(int wg, int window) {
+    return sizeof(int) * (size_t(window) * 12 + size_t(3) * (size_t(1) << tableBitsFor(window)) + 2 * size_t(wg) + 2);
+}
+
+template <class... Args>
+void setArgs(cl::Kernel& kernel, const Args&... args) {
+    cl_uint index = 0;
+    (checkCl(kernel.setArg(index++, args), "setting a kernel argument"), ...);
+}
+
+}  // namespace
+
+DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt) {
+    // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
+    m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
+    m_kBounds = rt.makeKernel(m_splitProgram, "splitBounds");
+    m_kGridSetup = rt.makeKernel(m_splitProgram, "splitGridSetup");
+    m_kKeys = rt.makeKernel(m_splitProgram, "splitKeys");
+    m_kHistogram = rt.makeKernel(m_splitProgram, "splitRadixHistogram");
+    m_kScatter = rt.makeKernel(m_splitProgram, "splitRadixScatter");
+    m_kScan = rt.makeKernel(m_splitProgram, "splitScanExclusive");
+    m_kClearBins = rt.makeKernel(m_splitProgram, "splitClearBins");
+    m_kMarkBins = rt.makeKernel(m_splitProgram, "splitMarkBins");
+    m_kBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
+    m_kWriteGroups = rt.makeKernel(m_splitProgram, "splitWriteGroups");
+    m_kWriteSummary = rt.makeKernel(m_splitProgram, "splitWriteSummary");
+    batchProgram(64);
+}
+
+int DeviceBatcher::windowSize(int wg) const {
+    if (wg < 1 || size_t(wg) > m_rt.maxWorkGroupSize())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: workGroupSize " + std::to_string(wg) +
+                                  " is outside 1.." + std::to_string(m_rt.maxWorkGroupSize()) + " on " +
+                                  m_rt.deviceName());
+    int window = wg * std::max(1, (kPreferredWindow + wg - 1) / wg);
+    while (batchLocalBytes(wg, window) > m_rt.localMemSize() && window > wg) window = std::max(wg, window / 2 / wg * wg);
+    if (batchLocalBytes(wg, window) > m_rt.localMemSize())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: the batch kernel for workGroupSize " + std::to_string(wg) +
+                                  " needs " + std::to_string(batchLocalBytes(wg, window)) +
+                                  " bytes of local memory; the device has " + std::to_string(m_rt.localMemSize()));
+    return window;
+}
+
+DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
+    auto it = m_batchPrograms.find(wg);
+    if (it != m_batchPrograms.end()) return it->second;
+    BatchProgram p;
+    p.window = windowSize(wg);
+    const std::string options = "-DBATCH_WG=" + std::to_string(wg) + " -DBATCH_WINDOW=" + std::to_string(p.window) +
+                                " -DBATCH_TABLE_BITS=" + std::to_string(tableBitsFor(p.window)) +
+                                " -DBATCH_WINDOW_BITS=" + std::to_string(batchWindowBits(p.window));
+    p.program = m_rt.buildProgramFile("batch.cl", options);
+    p.kernel = m_rt.makeKernel(p.program, "batchGroups");
+    return m_batchPrograms.emplace(wg, std::move(p)).first->second;
+}
+
+void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t global, size_t local, std::vector<cl::Event>& events,
+                            const char* what) {
+    cl::Event event;
+    checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global),
+                                              local ? cl::NDRange(local) : cl::NullRange, nullptr, &event),
+            what);
+    events.push_back(event);
+}
+
+void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
+                          const std::vector<SplitBody>& bodies, const SplitParams& params) {
+    if (params.batchIterations < 1)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+    if (n < 0 || size_t(n) > constraints.capacity())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
+                                  " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
+    BatchProgram& batch = batchProgram(params.workGroupSize);
+    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    m_n = n;
+    m_setGroupStart.fill(0);
+    m_splitEvents.clear();
+    m_batchEvents.clear();
+    m_stats = DeviceBatchStats{};
+    m_statsReady = false;
+    if (n == 0) return;
+
+    const OclRuntime& rt = m_rt;
+    m_overflowHost.assign(plan.overflowBody.begin(), plan.overflowBody.end());
+    if (m_overflowHost.empty()) m_overflowHost.push_back(0);  // no zero-sized buffers
+    cl::Event upload;
+    m_overflowBody.write(rt, m_overflowHost.data(), m_overflowHost.size(), &upload);
+    m_partMin.reserve(rt, kSortChunks);
+    m_partMax.reserve(rt, kSortChunks);
+    m_grid.reserve(rt, 1);
+    for (DeviceBuffer<cl_uint>* b : {&m_keys, &m_keysTmp}) b->reserve(rt, size_t(n));
+    for (DeviceBuffer<int>* b : {&m_sorted, &m_sortedTmp, &m_solveOrder, &m_batchEnd}) b->reserve(rt, size_t(n));
+    m_hist.reserve(rt, size_t(kRadixBins) * kSortChunks);
+    for (DeviceBuffer<int>* b : {&m_binStart, &m_binEnd, &m_groupOfBin}) b->reserve(rt, BTOCL_SPLIT_NUM_KEYS);
+    m_total.reserve(rt, 1);
+    m_summary.reserve(rt, kSummaryInts);
+    m_groups.reserve(rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
+
+    const int chunk = (n + kSortChunks - 1) / kSortChunks;
+    const cl::Buffer& cb = constraints.buffer();
+    std::vector<cl::Event>& ev = m_splitEvents;
+
+    setArgs(m_kBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
+    enqueue(m_kBounds, kSortChunks, 0, ev, "enqueueing splitBounds");
+    setArgs(m_kGridSetup, m_partMin.buffer(), m_partMax.buffer(), kSortChunks, plan.baseCellSize, m_grid.buffer());
+    enqueue(m_kGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
+    setArgs(m_kKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
+            m_sorted.buffer());
+    enqueue(m_kKeys, size_t(n), 0, ev, "enqueueing splitKeys");
+
+    // Two stable 8-bit radix passes (keys < 2^16): keys -> tmp -> keys.
+    for (int pass = 0; pass < BTOCL_SPLIT_KEY_BITS / 8; ++pass) {
+        const bool even = pass % 2 == 0;
+        const cl::Buffer& kIn = even ? m_keys.buffer() : m_keysTmp.buffer();
+        const cl::Buffer& vIn = even ? m_sorted.buffer() : m_sortedTmp.buffer();
+        const cl::Buffer& kOut = even ? m_keysTmp.buffer() : m_keys.buffer();
+        const cl::Buffer& vOut = even ? m_sortedTmp.buffer() : m_sorted.buffer();
+        const int shift = 8 * pass;
+        setArgs(m_kHistogram, kIn, n, chunk, shift, m_hist.buffer());
+        enqueue(m_kHistogram, kSortChunks, 0, ev, "enqueueing splitRadixHistogram");
+        setArgs(m_kScan, m_hist.buffer(), kRadixBins * kSortChunks, m_total.buffer());
+        enqueue(m_kScan, kScanWorkGroup, kScanWorkGroup, ev, "enqueueing splitScanExclusive");
+        setArgs(m_kScatter, kIn, vIn, n, chunk, shift, m_hist.buffer(), kOut, vOut);
+        enqueue(m_kScatter, kSortChunks, 0, ev, "enqueueing splitRadixScatter");
+    }
+    static_assert(BTOCL_SPLIT_KEY_BITS == 16, "an even number of passes leaves the result in m_keys/m_sorted");
+
+    // Groups: one per non-empty key, numbered by a scan over the key bins.
+    setArgs(m_kClearBins, m_binStart.buffer(), m_binEnd.buffer());
+    enqueue(m_kClearBins, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitClearBins");
+    setArgs(m_kMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
+    enqueue(m_kMarkBins, size_t(n), 0, ev, "enqueueing splitMarkBins");
+    setArgs(m_kBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
+    enqueue(m_kBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
+    setArgs(m_kScan, m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS, m_total.buffer());
+    enqueue(m_kScan, kScanWorkGroup, kScanWorkGroup, ev, "enqueueing splitScanExclusive");
+    setArgs(m_kWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
+            m_groups.buffer());
+    enqueue(m_kWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
+    setArgs(m_kWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_total.buffer(),
+            m_grid.buffer(), m_summary.buffer());
+    enqueue(m_kWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
+
+    // The one read-back: the batch launch needs the number of groups.
+    int summary[kSummaryInts];
+    m_summary.read(rt, summary, kSummaryInts);
+    for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
+    m_stats.numConstraints = n;
+    m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
+    m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
+    std::memcpy(&m_stats.cellSize, &summary[BTOCL_NUM_SETS + 3], sizeof(float));
+
+    setArgs(batch.kernel, cb, m_sorted.buffer(), m_groups.buffer(), params.batchIterations, m_solveOrder.buffer(),
+            m_batchEnd.buffer());
+    enqueue(batch.kernel, size_t(numGroups()) * size_t(params.workGroupSize), size_t(params.workGroupSize),
+            m_batchEvents, "enqueueing batchGroups");
+}
+
+const DeviceBatchStats& DeviceBatcher::stats() const {
+    if (m_statsReady) return m_stats;
+    m_rt.finish("batching constraints on the device");
+    const std::vector<btoclGroup> groups = m_groups.read(m_rt, size_t(numGroups()));
+    long long sum = 0;
+    for (const btoclGroup& g : groups) {
+        m_stats.numBatchesMax = std::max(m_stats.numBatchesMax, g.numBatches);
+        sum += g.numBatches;
+    }
+    m_stats.numBatchesMean = groups.empty() ? 0.0 : double(sum) / double(groups.size());
+    for (const cl::Event& e : m_splitEvents) m_stats.msSplit += eventMs(e);
+    for (const cl::Event& e : m_batchEvents) m_stats.msBatch += eventMs(e);
+    m_statsReady = true;
+    return m_stats;
+}
+
+BatchLayout DeviceBatcher::download() const {
+    m_rt.finish("batching constraints on the device");
+    BatchLayout layout;
+    layout.solveOrder = m_solveOrder.read(m_rt, size_t(m_n));
+    layout.batchEnd = m_batchEnd.read(m_rt, size_t(m_n));
+    layout.groups = m_groups.read(m_rt, size_t(numGroups()));
+    layout.setGroupStart = m_setGroupStart;
+    layout.cellSize = m_stats.cellSize;
+    layout.numOverflowConstraints = m_stats.numOverflowConstraints;
+    return layout;
+}
+
+}  // namespace btocl

@@ -1,0 +1,84 @@
+// Global split and local batch creation on the device (kernels/split.cl, kernels/batch.cl).
+// The output equals buildBatchesHostStreamed(constraints, bodies, params, windowSize()) bit for bit.
+#pragma once
+
+#include "ConstraintBatches.h"
+#include "DeviceBuffer.h"
+#include "OclRuntime.h"
+
+#include <array>
+#include <map>
+#include <vector>
+
+namespace btocl {
+
+struct DeviceBatchStats {
+    int numConstraints = 0;
+    int numCellGroups = 0;          // groups of sets 0..3 (the overflow group is not a cell)
+    int numBatchesMax = 0;          // over all groups, overflow included
+    double numBatchesMean = 0;      // over all groups, overflow included
+    int numOverflowConstraints = 0;
+    float cellSize = 0;
+    double msSplit = 0, msBatch = 0;  // device time of the kernels (OpenCL event profiling)
+};
+
+class DeviceBatcher {
+public:
+    // Builds the split program and the batch program for 64 lanes. `rt` must outlive this object.
+    explicit DeviceBatcher(const OclRuntime& rt);
+
+    // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
+    // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
+    // edge), needed to size the batch launch. bodies: one entry per body index the constraints use.
+    // Throws btOpenCLSolverError on bad parameters or a device error.
+    void build(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
+               const SplitParams& params);
+
+    // The layout of the last build, on the device (valid until the next build).
+    const DeviceBuffer<int>& solveOrder() const { return m_solveOrder; }
+    const DeviceBuffer<int>& batchEnd() const { return m_batchEnd; }
+    const DeviceBuffer<btoclGroup>& groups() const { return m_groups; }
+    const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const { return m_setGroupStart; }
+    int numGroups() const { return m_setGroupStart[BTOCL_NUM_SETS + 1]; }
+
+    // Waits for the device on first call after a build (reads the groups back for the batch counts).
+    const DeviceBatchStats& stats() const;
+
+    // Host copy of the layout, for tests and validation (blocking).
+    BatchLayout download() const;
+
+    // Constraints per streamed chunk of the batch kernel for a work-group size (fits local memory).
+    int windowSize(int workGroupSize) const;
+
+private:
+    struct BatchProgram {
+        cl::Program program;
+        cl::Kernel kernel;
+        int window = 0;
+    };
+    BatchProgram& batchProgram(int workGroupSize);
+    void enqueue(cl::Kernel& kernel, size_t global, size_t local, std::vector<cl::Event>& events, const char* what);
+
+    const OclRuntime& m_rt;
+    cl::Program m_splitProgram;
+    cl::Kernel m_kBounds, m_kGridSetup, m_kKeys, m_kHistogram, m_kScatter, m_kScan, m_kClearBins, m_kMarkBins,
+        m_kBinFlags, m_kWriteGroups, m_kWriteSummary;
+    std::map<int, BatchProgram> m_batchPrograms;
+
+    DeviceBuffer<cl_float4> m_partMin, m_partMax;
+    DeviceBuffer<btoclSplitGrid> m_grid;
+    DeviceBuffer<cl_uchar> m_overflowBody;
+    DeviceBuffer<cl_uint> m_keys, m_keysTmp;
+    DeviceBuffer<int> m_sorted, m_sortedTmp, m_hist, m_binStart, m_binEnd, m_groupOfBin, m_total, m_summary;
+    DeviceBuffer<int> m_solveOrder, m_batchEnd;
+    DeviceBuffer<btoclGroup> m_groups;
+    std::vector<cl_uchar> m_overflowHost;  // lives until its upload is done
+
+    int m_n = 0;
+    std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};
+    std::vector<cl::Event> m_splitEvents, m_batchEvents;
+    mutable DeviceBatchStats m_stats;
+    mutable bool m_statsReady = true;
+};
+
+}  // namespace btocl

@@ -1,0 +1,365 @@
+// Serial host reference of the global split and local batching, and the layout validator.
+#include "ConstraintBatches.h"
+
+#include "batch_priority.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace btocl {
+namespace {
+
+// A contact point lies within its body's AABB grown by the contact margin; 10% more covers the
+// AABB being a step old and float rounding far from the origin.
+constexpr float kRelativeMargin = 1.1f;
+// A dynamic body more than this many times the median dynamic extent goes to the overflow group.
+constexpr float kOverflowFactor = 4.0f;
+
+float contactSpan(float extent, const SplitParams& params) { return extent * kRelativeMargin + params.contactMargin; }
+
+void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
+    if (body < 0 || size_t(body) >= numBodies)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: constraint " + std::to_string(constraint) +
+                                  " names body " + std::to_string(body) + " but there are " +
+                                  std::to_string(numBodies) + " bodies");
+}
+
+// Each group's constraints reordered by batch; batch k of the group ends at batchEnd[offset + k].
+using GroupBatcher = void (*)(const std::vector<btoclConstraint>&, BatchLayout&, btoclGroup&, const SplitParams&, int);
+
+int dynBody(const btoclConstraint& c, int side) {
+    if (side == 0) return c.dynamicA ? c.bodyA : -1;
+    return c.dynamicB ? c.bodyB : -1;
+}
+
+void batchGroupGreedy(const std::vector<btoclConstraint>& constraints, BatchLayout& layout, btoclGroup& g,
+                      const SplitParams&, int) {
+    int* order = layout.solveOrder.data() + g.offset;
+    // usedBatches[body] = the batches that already hold the body.
+    std::unordered_map<int, std::vector<char>> used;
+    std::vector<int> batchOf(size_t(g.count));
+    int numBatches = 0;
+    for (int i = 0; i < g.count; ++i) {
+        const btoclConstraint& c = constraints[size_t(order[i])];
+        const int a = dynBody(c, 0), b = dynBody(c, 1);
+        std::vector<char>* ua = a >= 0 ? &used[a] : nullptr;
+        std::vector<char>* ub = b >= 0 ? &used[b] : nullptr;
+        int k = 0;
+        auto taken = [&](int batch) {
+            return (ua && batch < int(ua->size()) && (*ua)[size_t(batch)]) ||
+                   (ub && batch < int(ub->size()) && (*ub)[size_t(batch)]);
+        };
+        while (taken(k)) ++k;
+        for (std::vector<char>* u : {ua, ub})
+            if (u) {
+                if (int(u->size()) <= k) u->resize(size_t(k) + 1, 0);
+                (*u)[size_t(k)] = 1;
+            }
+        batchOf[size_t(i)] = k;
+        numBatches = std::max(numBatches, k + 1);
+    }
+    std::vector<int> sorted(order, order + g.count);
+    std::vector<int> perm(size_t(g.count));
+    for (int i = 0; i < g.count; ++i) perm[size_t(i)] = i;
+    std::stable_sort(perm.begin(), perm.end(), [&](int x, int y) { return batchOf[size_t(x)] < batchOf[size_t(y)]; });
+    for (int i = 0; i < g.count; ++i) order[i] = sorted[size_t(perm[size_t(i)])];
+    std::vector<int> perBatch(size_t(numBatches), 0);
+    for (int i = 0; i < g.count; ++i) ++perBatch[size_t(batchOf[size_t(i)])];
+    int end = g.offset;
+    for (int k = 0; k < numBatches; ++k) {
+        end += perBatch[size_t(k)];
+        layout.batchEnd[size_t(g.offset + k)] = end;
+    }
+    g.numBatches = numBatches;
+}
+
+// Mirrors kernels/batch.cl step for step (see buildBatchesHostStreamed in the header).
+void batchGroupStreamed(const std::vector<btoclConstraint>& constraints, BatchLayout& layout, btoclGroup& g,
+                        const SplitParams& params, int windowSize) {
+    const std::vector<int> stream(layout.solveOrder.begin() + g.offset, layout.solveOrder.begin() + g.offset + g.count);
+    std::vector<int> window;
+    int next = 0, emitted = 0, batch = 0;
+    enum { kPending, kBlocked, kScheduled };
+    const int windowBits = batchWindowBits(windowSize);
+    while (true) {
+        while (int(window.size()) < windowSize && next < g.count) window.push_back(stream[size_t(next++)]);
+        if (window.empty()) break;
+        const int w = int(window.size());
+        std::vector<int> state(size_t(w), kPending);
+        std::unordered_set<int> locked;
+        for (int round = 0; round < params.batchIterations; ++round) {
+            std::unordered_map<int, int> best;
+            for (int e = 0; e < w; ++e) {
+                if (state[size_t(e)] != kPending) continue;
+                const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
+                const int a = dynBody(c, 0), b = dynBody(c, 1);
+                if ((a >= 0 && locked.count(a)) || (b >= 0 && locked.count(b))) {
+                    state[size_t(e)] = kBlocked;
+                    continue;
+                }
+                const int priority = btoclBatchPriority(window[size_t(e)], e, windowBits);
+                for (int body : {a, b})
+                    if (body >= 0) {
+                        auto it = best.find(body);
+                        if (it == best.end() || priority < it->second) best[body] = priority;
+                    }
+            }
+            std::vector<int> wonNow;
+            for (int e = 0; e < w; ++e) {
+                if (state[size_t(e)] != kPending) continue;
+                const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
+                const int a = dynBody(c, 0), b = dynBody(c, 1);
+                const int priority = btoclBatchPriority(window[size_t(e)], e, windowBits);
+                if ((a < 0 || best[a] == priority) && (b < 0 || best[b] == priority)) wonNow.push_back(e);
+            }
+            for (int e : wonNow) {
+                state[size_t(e)] = kScheduled;
+                const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
+                for (int body : {dynBody(c, 0), dynBody(c, 1)})
+                    if (body >= 0) locked.insert(body);
+            }
+        }
+        std::vector<int> rest;
+        for (int e = 0; e < w; ++e) {
+            if (state[size_t(e)] == kScheduled)
+                layout.solveOrder[size_t(g.offset + emitted++)] = window[size_t(e)];
+            else
+                rest.push_back(window[size_t(e)]);
+        }
+        layout.batchEnd[size_t(g.offset + batch++)] = g.offset + emitted;
+        window.swap(rest);
+    }
+    g.numBatches = batch;
+}
+
+BatchLayout buildWith(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
+                      const SplitParams& params, GroupBatcher batcher, int windowSize) {
+    if (params.batchIterations < 1)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+    BatchLayout layout = splitHost(constraints, bodies, params);
+    for (btoclGroup& g : layout.groups) batcher(constraints, layout, g, params, windowSize);
+    return layout;
+}
+
+}  // namespace
+
+int batchWindowBits(int windowSize) {
+    int bits = 0;
+    while ((1 << bits) < windowSize) ++bits;
+    return bits;
+}
+
+SplitBodiesPlan planSplitBodies(const std::vector<SplitBody>& bodies, const SplitParams& params) {
+    SplitBodiesPlan plan;
+    plan.overflowBody.assign(bodies.size(), 0);
+    if (params.cellSize < 0 || !std::isfinite(params.cellSize))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive finite length");
+    if (params.cellSize > 0) {
+        plan.baseCellSize = params.cellSize;
+        for (size_t i = 0; i < bodies.size(); ++i)
+            plan.overflowBody[i] = bodies[i].dynamic && contactSpan(bodies[i].extent, params) > params.cellSize;
+        return plan;
+    }
+    std::vector<float> extents;
+    for (const SplitBody& b : bodies)
+        if (b.dynamic) extents.push_back(b.extent);
+    if (extents.empty()) return plan;
+    auto mid = extents.begin() + std::ptrdiff_t(extents.size() / 2);
+    std::nth_element(extents.begin(), mid, extents.end());
+    const float limit = kOverflowFactor * *mid;
+    float cell = 0;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        if (!bodies[i].dynamic) continue;
+        if (limit > 0 && bodies[i].extent > limit)
+            plan.overflowBody[i] = 1;
+        else
+            cell = std::max(cell, contactSpan(bodies[i].extent, params));
+    }
+    plan.baseCellSize = cell;
+    return plan;
+}
+
+int splitKeyOfConstraint(const btoclConstraint& c, const btoclSplitGrid& g, const std::vector<unsigned char>& overflowBody) {
+    const int nb = int(overflowBody.size());
+    const bool overA = c.dynamicA && c.bodyA >= 0 && c.bodyA < nb && overflowBody[size_t(c.bodyA)];
+    const bool overB = c.dynamicB && c.bodyB >= 0 && c.bodyB < nb && overflowBody[size_t(c.bodyB)];
+    if (overA || overB) return g.overflowKey;
+    const int cx = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisU), g.originU, g.invCell, g.nx);
+    const int cy = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisV), g.originV, g.invCell, g.ny);
+    return btoclSplitKeyOfCell(g, cx, cy);
+}
+
+btoclSplitGrid makeSplitGridHost(const std::vector<btoclConstraint>& constraints, float baseCellSize) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (const btoclConstraint& c : constraints) {
+        const float p[3] = {c.position.x, c.position.y, c.position.z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fmin(lo[a], p[a]);
+            hi[a] = fmax(hi[a], p[a]);
+        }
+    }
+    return btoclMakeSplitGrid(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], baseCellSize);
+}
+
+BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
+                      const SplitParams& params) {
+    for (size_t i = 0; i < constraints.size(); ++i) {
+        checkBodyIndex(constraints[i].bodyA, bodies.size(), i);
+        checkBodyIndex(constraints[i].bodyB, bodies.size(), i);
+    }
+    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    BatchLayout layout;
+    const int n = int(constraints.size());
+    layout.solveOrder.resize(size_t(n));
+    layout.batchEnd.assign(size_t(n), 0);
+    if (n == 0) return layout;
+
+    const btoclSplitGrid grid = makeSplitGridHost(constraints, plan.baseCellSize);
+    layout.cellSize = grid.cellSize;
+    std::vector<int> keys(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) keys[size_t(i)] = splitKeyOfConstraint(constraints[size_t(i)], grid, plan.overflowBody);
+    // Stable counting sort by key: each group's constraints stay in index order.
+    std::vector<int> start(size_t(grid.overflowKey) + 2, 0);
+    for (int k : keys) ++start[size_t(k) + 1];
+    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int i = 0; i < n; ++i) layout.solveOrder[size_t(fill[size_t(keys[size_t(i)])]++)] = i;
+
+    int set = 0;
+    for (int key = 0; key <= grid.overflowKey; ++key) {
+        const int keySet = key == grid.overflowKey ? BTOCL_OVERFLOW_SET : key / grid.cellsPerSet;
+        while (set < keySet) layout.setGroupStart[size_t(++set)] = int(layout.groups.size());
+        const int count = start[size_t(key) + 1] - start[size_t(key)];
+        if (count == 0) continue;
+        layout.groups.push_back(btoclGroup{start[size_t(key)], count, 0, btoclSplitCellOfKey(grid, key)});
+    }
+    layout.setGroupStart[BTOCL_NUM_SETS + 1] = int(layout.groups.size());
+    layout.numOverflowConstraints = start[size_t(grid.overflowKey) + 1] - start[size_t(grid.overflowKey)];
+    return layout;
+}
+
+BatchLayout buildBatchesHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
+                             const SplitParams& params) {
+    return buildWith(constraints, bodies, params, batchGroupGreedy, 0);
+}
+
+BatchLayout buildBatchesHostStreamed(const std::vector<btoclConstraint>& constraints,
+                                     const std::vector<SplitBody>& bodies, const SplitParams& params,
+                                     int windowSize) {
+    if (windowSize < 1) throw btOpenCLSolverError("btOpenCLConstraintSolver: the batching window must hold a constraint");
+    return buildWith(constraints, bodies, params, batchGroupStreamed, windowSize);
+}
+
+int greedyBatchCount(const std::vector<btoclConstraint>& constraints, const int* indices, int count) {
+    BatchLayout scratch;
+    scratch.solveOrder.assign(indices, indices + count);
+    scratch.batchEnd.assign(size_t(count), 0);
+    btoclGroup g{0, count, 0, 0};
+    batchGroupGreedy(constraints, scratch, g, SplitParams{}, 0);
+    return g.numBatches;
+}
+
+std::string validateBatchLayout(const BatchLayout& layout, const std::vector<btoclConstraint>& constraints) {
+    std::ostringstream err;
+    const int n = int(constraints.size());
+    if (int(layout.solveOrder.size()) != n) {
+        err << "solveOrder holds " << layout.solveOrder.size() << " entries for " << n << " constraints";
+        return err.str();
+    }
+    std::vector<char> seen(size_t(n), 0);
+    for (int i = 0; i < n; ++i) {
+        const int c = layout.solveOrder[size_t(i)];
+        if (c < 0 || c >= n) {
+            err << "solveOrder[" << i << "] = " << c << " is not a constraint index";
+            return err.str();
+        }
+        if (seen[size_t(c)]++) {
+            err << "constraint " << c << " appears twice in solveOrder (again at " << i << ")";
+            return err.str();
+        }
+    }
+    const auto& sgs = layout.setGroupStart;
+    if (sgs[0] != 0 || sgs[BTOCL_NUM_SETS + 1] != int(layout.groups.size())) {
+        err << "setGroupStart runs from " << sgs[0] << " to " << sgs[BTOCL_NUM_SETS + 1] << " for "
+            << layout.groups.size() << " groups";
+        return err.str();
+    }
+    for (int s = 0; s <= BTOCL_NUM_SETS; ++s)
+        if (sgs[size_t(s)] > sgs[size_t(s) + 1]) {
+            err << "setGroupStart decreases at set " << s;
+            return err.str();
+        }
+    // Groups tile solveOrder in order; batches tile each group.
+    int expectedOffset = 0;
+    for (size_t gi = 0; gi < layout.groups.size(); ++gi) {
+        const btoclGroup& g = layout.groups[gi];
+        if (g.offset != expectedOffset || g.count < 1 || g.offset + g.count > n) {
+            err << "group " << gi << " (offset " << g.offset << ", count " << g.count
+                << ") does not continue the previous group at " << expectedOffset;
+            return err.str();
+        }
+        expectedOffset += g.count;
+        if (g.numBatches < 1 || g.numBatches > g.count || size_t(g.offset + g.numBatches) > layout.batchEnd.size()) {
+            err << "group " << gi << " has " << g.numBatches << " batches for " << g.count << " constraints";
+            return err.str();
+        }
+        int begin = g.offset;
+        for (int k = 0; k < g.numBatches; ++k) {
+            const int end = layout.batchEnd[size_t(g.offset + k)];
+            if (end <= begin || end > g.offset + g.count) {
+                err << "group " << gi << " batch " << k << " ends at " << end << " after starting at " << begin;
+                return err.str();
+            }
+            std::unordered_set<int> inBatch;
+            for (int i = begin; i < end; ++i) {
+                const btoclConstraint& c = constraints[size_t(layout.solveOrder[size_t(i)])];
+                for (int side = 0; side < 2; ++side) {
+                    const int body = dynBody(c, side);
+                    if (body < 0) continue;
+                    if (side == 1 && c.dynamicA && c.bodyA == body) continue;  // a pair with itself
+                    if (!inBatch.insert(body).second) {
+                        err << "dynamic body " << body << " appears twice in batch " << k << " of group " << gi;
+                        return err.str();
+                    }
+                }
+            }
+            begin = end;
+        }
+        if (begin != g.offset + g.count) {
+            err << "the batches of group " << gi << " end at " << begin << ", not at its end " << g.offset + g.count;
+            return err.str();
+        }
+    }
+    if (expectedOffset != n) {
+        err << "the groups cover " << expectedOffset << " of " << n << " constraints";
+        return err.str();
+    }
+    // Groups of one set run at the same time: no dynamic body may be in two of them.
+    for (int s = 0; s <= BTOCL_NUM_SETS; ++s) {
+        std::unordered_map<int, int> groupOfBody;
+        for (int gi = sgs[size_t(s)]; gi < sgs[size_t(s) + 1]; ++gi) {
+            const btoclGroup& g = layout.groups[size_t(gi)];
+            for (int i = g.offset; i < g.offset + g.count; ++i) {
+                const btoclConstraint& c = constraints[size_t(layout.solveOrder[size_t(i)])];
+                for (int side = 0; side < 2; ++side) {
+                    const int body = dynBody(c, side);
+                    if (body < 0) continue;
+                    auto [it, inserted] = groupOfBody.emplace(body, gi);
+                    if (!inserted && it->second != gi) {
+                        err << "dynamic body " << body << " is in groups " << it->second << " and " << gi << " of set "
+                            << s;
+                        return err.str();
+                    }
+                }
+            }
+        }
+    }
+    return "";
+}
+
+}  // namespace btocl

@@ -1,0 +1,180 @@
+// Local batch creation (DESIGN §1, the paper's §2.2): one work-group per constraint group splits
+// the group into batches in which no dynamic body appears twice.
+//
+// The group streams through a local window of BATCH_WINDOW constraints. For each batch the window's
+// dynamic bodies get exact slots in a local open-addressing table (so no false conflicts), then
+// `rounds` locking rounds run: every pending constraint offers its priority (batch_priority.h: a hash of its
+// index, then its window position) to the slots of its bodies with atomic_min; a constraint that holds the minimum of all its slots is scheduled and locks
+// them; one whose body is locked waits for the next batch. Only minima decide, so the result does not
+// depend on the order lanes run in, and the smallest pending priority always wins: each batch takes at
+// least one constraint. Scheduled constraints leave through a local output buffer at positions from a
+// prefix sum over lanes; the rest are compacted (in order) and the window is refilled from the group.
+// No lane ever waits for another except at barriers, which every lane reaches (uniform loops).
+#include "btOclShared.h"
+#include "batch_priority.h"
+
+#ifndef BATCH_WG
+#define BATCH_WG 64
+#endif
+#ifndef BATCH_WINDOW
+#define BATCH_WINDOW 512  // a multiple of BATCH_WG
+#endif
+#ifndef BATCH_TABLE_BITS
+#define BATCH_TABLE_BITS 11  // 2^bits slots > 2 * BATCH_WINDOW bodies, so a probe always ends
+#endif
+#ifndef BATCH_WINDOW_BITS
+#define BATCH_WINDOW_BITS 9  // BATCH_WINDOW <= 2^bits
+#endif
+#define BATCH_TABLE (1 << BATCH_TABLE_BITS)
+#define BATCH_PER_LANE (BATCH_WINDOW / BATCH_WG)
+
+#define EMPTY_BODY (-1)
+#define NO_OFFER 0x7fffffff
+#define ST_PENDING 0
+#define ST_BLOCKED 1
+#define ST_SCHEDULED 2
+
+// The slot of `body`, inserting it if new. Lock-free: a slot goes from empty to a body once, so every
+// lane probing for the same body walks the same filled slots and stops at the same one.
+static int batchTableSlot(__local int* keys, int body) {
+    uint h = ((uint)body * 2654435761u) >> (32 - BATCH_TABLE_BITS);
+    for (int probe = 0; probe < BATCH_TABLE; ++probe) {
+        const int old = atomic_cmpxchg(&keys[h], EMPTY_BODY, body);
+        if (old == EMPTY_BODY || old == body) return (int)h;
+        h = (h + 1) & (BATCH_TABLE - 1);
+    }
+    return 0;  // unreachable: the table has more slots than a window has bodies
+}
+
+__kernel __attribute__((reqd_work_group_size(BATCH_WG, 1, 1)))
+void batchGroups(__global const btoclConstraint* constraints, __global const int* sorted,
+                 __global btoclGroup* groups, int rounds, __global int* solveOrder, __global int* batchEnd) {
+    __local int winIdx[2][BATCH_WINDOW];  // ping-pong window: constraint index
+    __local int winA[2][BATCH_WINDOW];    // its dynamic bodies, or -1
+    __local int winB[2][BATCH_WINDOW];
+    __local int slotA[BATCH_WINDOW], slotB[BATCH_WINDOW];
+    __local int state[BATCH_WINDOW];
+    __local int prio[BATCH_WINDOW];
+    __local int owns[BATCH_WINDOW];  // bit 0/1: this entry's offer is the minimum of slot A/B
+    __local int outBuf[BATCH_WINDOW];
+    __local int tableKey[BATCH_TABLE], tableBest[BATCH_TABLE], tableLocked[BATCH_TABLE];
+    __local int laneScheduled[BATCH_WG], laneRest[BATCH_WG];
+    __local int totals[2];
+
+    const int lid = get_local_id(0);
+    const int gid = get_group_id(0);
+    const int offset = groups[gid].offset, count = groups[gid].count;
+    const int myBegin = lid * BATCH_PER_LANE;
+    int cur = 0, winSize = 0, next = 0, emitted = 0, batch = 0;
+
+    for (;;) {
+        // Refill the window's tail from the group, in order.
+        const int add = min(BATCH_WINDOW - winSize, count - next);
+        for (int k = lid; k < add; k += BATCH_WG) {
+            const int ci = sorted[offset + next + k];
+            winIdx[cur][winSize + k] = ci;
+            winA[cur][winSize + k] = constraints[ci].dynamicA ? constraints[ci].bodyA : -1;
+            winB[cur][winSize + k] = constraints[ci].dynamicB ? constraints[ci].bodyB : -1;
+        }
+        winSize += add;
+        next += add;
+        if (winSize == 0) break;  // uniform: every lane holds the same counters
+
+        for (int h = lid; h < BATCH_TABLE; h += BATCH_WG) {
+            tableKey[h] = EMPTY_BODY;
+            tableBest[h] = NO_OFFER;
+            tableLocked[h] = 0;
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        const int myEnd = min(winSize, myBegin + BATCH_PER_LANE);
+        for (int e = myBegin; e < myEnd; ++e) {
+            const int a = winA[cur][e], b = winB[cur][e];
+            slotA[e] = a >= 0 ? batchTableSlot(tableKey, a) : -1;
+            slotB[e] = b >= 0 ? batchTableSlot(tableKey, b) : -1;
+            state[e] = ST_PENDING;
+            owns[e] = 0;
+            prio[e] = btoclBatchPriority(winIdx[cur][e], e, BATCH_WINDOW_BITS);
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+
+        for (int r = 0; r < rounds; ++r) {
+            // Offer (locks are only read here, offers only atomically lowered).
+            for (int e = myBegin; e < myEnd; ++e) {
+                if (state[e] != ST_PENDING) continue;
+                const int sa = slotA[e], sb = slotB[e];
+                if ((sa >= 0 && tableLocked[sa]) || (sb >= 0 && tableLocked[sb])) {
+                    state[e] = ST_BLOCKED;
+                    continue;
+                }
+                if (sa >= 0) atomic_min(&tableBest[sa], prio[e]);
+                if (sb >= 0) atomic_min(&tableBest[sb], prio[e]);
+            }
+            barrier(CLK_LOCAL_MEM_FENCE);
+            // Decide (offers only read here).
+            for (int e = myBegin; e < myEnd; ++e) {
+                if (state[e] != ST_PENDING) continue;
+                const int sa = slotA[e], sb = slotB[e];
+                const bool wonA = sa < 0 || tableBest[sa] == prio[e];
+                const bool wonB = sb < 0 || tableBest[sb] == prio[e];
+                owns[e] = (sa >= 0 && wonA ? 1 : 0) | (sb >= 0 && wonB ? 2 : 0);
+                if (wonA && wonB) state[e] = ST_SCHEDULED;
+            }
+            barrier(CLK_LOCAL_MEM_FENCE);
+            // Lock the winners' bodies; each slot's minimum holder clears its offer for the next round.
+            for (int e = myBegin; e < myEnd; ++e) {
+                const int o = owns[e];
+                if (o & 1) tableBest[slotA[e]] = NO_OFFER;
+                if (o & 2) tableBest[slotB[e]] = NO_OFFER;
+                owns[e] = 0;
+                if (state[e] == ST_SCHEDULED) {
+                    if (slotA[e] >= 0) tableLocked[slotA[e]] = 1;
+                    if (slotB[e] >= 0) tableLocked[slotB[e]] = 1;
+                }
+            }
+            barrier(CLK_LOCAL_MEM_FENCE);
+        }
+
+        // Output and compaction positions: prefix sums over lanes (lanes own contiguous slices).
+        int nScheduled = 0;
+        for (int e = myBegin; e < myEnd; ++e) nScheduled += state[e] == ST_SCHEDULED ? 1 : 0;
+        laneScheduled[lid] = nScheduled;
+        laneRest[lid] = max(0, myEnd - myBegin) - nScheduled;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (lid == 0) {
+            int runS = 0, runR = 0;
+            for (int l = 0; l < BATCH_WG; ++l) {
+                const int s = laneScheduled[l], r = laneRest[l];
+                laneScheduled[l] = runS;
+                laneRest[l] = runR;
+                runS += s;
+                runR += r;
+            }
+            totals[0] = runS;
+            totals[1] = runR;
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        const int nxt = 1 - cur;
+        int atS = laneScheduled[lid], atR = laneRest[lid];
+        for (int e = myBegin; e < myEnd; ++e) {
+            if (state[e] == ST_SCHEDULED) {
+                outBuf[atS++] = winIdx[cur][e];
+            } else {
+                winIdx[nxt][atR] = winIdx[cur][e];
+                winA[nxt][atR] = winA[cur][e];
+                winB[nxt][atR] = winB[cur][e];
+                ++atR;
+            }
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        const int totalScheduled = totals[0], totalRest = totals[1];
+        for (int i = lid; i < totalScheduled; i += BATCH_WG) solveOrder[offset + emitted + i] = outBuf[i];
+        if (lid == 0) batchEnd[offset + batch] = offset + emitted + totalScheduled;
+        emitted += totalScheduled;
+        ++batch;
+        winSize = totalRest;
+        cur = nxt;
+        barrier(CLK_LOCAL_MEM_FENCE);  // outBuf, totals and the lane sums are reused
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE);  // every lane has read this group's record
+    if (lid == 0) groups[gid].numBatches = batch;
+}

@@ -1,0 +1,157 @@
+// Global split (DESIGN §1): a cell key per constraint, a stable radix sort by key, then the
+// groups (one per non-empty key, set-major) and each set's first group. Deterministic: no
+// atomics; every chunk of the sort owns its own histogram column.
+#include "btOclShared.h"
+#include "split_grid.h"
+
+#define SPLIT_RADIX_BITS 8
+#define SPLIT_RADIX_BINS (1 << SPLIT_RADIX_BITS)
+#ifndef SPLIT_SCAN_WG
+#define SPLIT_SCAN_WG 256
+#endif
+
+// Work-item p: bounds of the positions of constraints [p * chunk, (p + 1) * chunk).
+__kernel void splitBounds(__global const btoclConstraint* constraints, int n, int chunk,
+                          __global float4* partMin, __global float4* partMax) {
+    const int p = get_global_id(0);
+    const int begin = min(n, p * chunk), end = min(n, begin + chunk);
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (int i = begin; i < end; ++i) {
+        const float4 x = constraints[i].position;
+        lo = fmin(lo, x);  // NaN is ignored, as on the host
+        hi = fmax(hi, x);
+    }
+    partMin[p] = lo;
+    partMax[p] = hi;
+}
+
+// One work-item: the whole box, then the grid of this step.
+__kernel void splitGridSetup(__global const float4* partMin, __global const float4* partMax, int parts,
+                             float baseCell, __global btoclSplitGrid* grid) {
+    if (get_global_id(0) != 0) return;
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (int p = 0; p < parts; ++p) {
+        lo = fmin(lo, partMin[p]);
+        hi = fmax(hi, partMax[p]);
+    }
+    *grid = btoclMakeSplitGrid(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, baseCell);
+}
+
+// Key and identity index per constraint. A constraint with a too-big dynamic body gets the
+// overflow key; body indices out of range never read past overflowBody.
+__kernel void splitKeys(__global const btoclConstraint* constraints, int n, __global const uchar* overflowBody,
+                        int numBodies, __global const btoclSplitGrid* gridIn, __global uint* keys,
+                        __global int* indices) {
+    const int i = get_global_id(0);
+    if (i >= n) return;
+    const btoclSplitGrid g = *gridIn;
+    const int a = constraints[i].bodyA, b = constraints[i].bodyB;
+    const bool overA = constraints[i].dynamicA && a >= 0 && a < numBodies && overflowBody[a];
+    const bool overB = constraints[i].dynamicB && b >= 0 && b < numBodies && overflowBody[b];
+    int key = g.overflowKey;
+    if (!overA && !overB) {
+        const float4 pos = constraints[i].position;
+        const int cx = btoclSplitCellCoord(BTOCL_AXIS(pos, g.axisU), g.originU, g.invCell, g.nx);
+        const int cy = btoclSplitCellCoord(BTOCL_AXIS(pos, g.axisV), g.originV, g.invCell, g.ny);
+        key = btoclSplitKeyOfCell(g, cx, cy);
+    }
+    keys[i] = (uint)key;
+    indices[i] = i;
+}
+
+// Radix pass, step 1: work-item p counts the digits of its chunk into its own column
+// hist[digit * P + p]; the digit-major exclusive scan of hist then gives stable positions.
+__kernel void splitRadixHistogram(__global const uint* keys, int n, int chunk, int shift, __global int* hist) {
+    const int p = get_global_id(0), P = get_global_size(0);
+    for (int d = 0; d < SPLIT_RADIX_BINS; ++d) hist[d * P + p] = 0;
+    const int begin = min(n, p * chunk), end = min(n, begin + chunk);
+    for (int i = begin; i < end; ++i) ++hist[((keys[i] >> shift) & (SPLIT_RADIX_BINS - 1)) * P + p];
+}
+
+// Radix pass, step 3: work-item p moves its chunk, in order, to the scanned positions.
+__kernel void splitRadixScatter(__global const uint* keysIn, __global const int* valuesIn, int n, int chunk, int shift,
+                                __global int* hist, __global uint* keysOut, __global int* valuesOut) {
+    const int p = get_global_id(0), P = get_global_size(0);
+    const int begin = min(n, p * chunk), end = min(n, begin + chunk);
+    for (int i = begin; i < end; ++i) {
+        const uint k = keysIn[i];
+        const int at = hist[((k >> shift) & (SPLIT_RADIX_BINS - 1)) * P + p]++;
+        keysOut[at] = k;
+        valuesOut[at] = valuesIn[i];
+    }
+}
+
+// In-place exclusive scan of data[0, m) by one work-group; *total = the sum. Each lane scans a
+// contiguous slice; lane 0 scans the slice sums.
+__kernel __attribute__((reqd_work_group_size(SPLIT_SCAN_WG, 1, 1)))
+void splitScanExclusive(__global int* data, int m, __global int* total) {
+    __local int sums[SPLIT_SCAN_WG];
+    const int l = get_local_id(0);
+    const int per = (m + SPLIT_SCAN_WG - 1) / SPLIT_SCAN_WG;
+    const int begin = min(m, l * per), end = min(m, begin + per);
+    int s = 0;
+    for (int i = begin; i < end; ++i) s += data[i];
+    sums[l] = s;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (l == 0) {
+        int run = 0;
+        for (int j = 0; j < SPLIT_SCAN_WG; ++j) {
+            const int t = sums[j];
+            sums[j] = run;
+            run += t;
+        }
+        *total = run;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int run = sums[l];
+    for (int i = begin; i < end; ++i) {
+        const int t = data[i];
+        data[i] = run;
+        run += t;
+    }
+}
+
+// Key ranges of the sorted keys: bins start empty (0, 0).
+__kernel void splitClearBins(__global int* binStart, __global int* binEnd) {
+    const int b = get_global_id(0);
+    binStart[b] = 0;
+    binEnd[b] = 0;
+}
+
+__kernel void splitMarkBins(__global const uint* keys, int n, __global int* binStart, __global int* binEnd) {
+    const int i = get_global_id(0);
+    if (i >= n) return;
+    const uint k = keys[i];
+    if (i == 0 || keys[i - 1] != k) binStart[k] = i;
+    if (i == n - 1 || keys[i + 1] != k) binEnd[k] = i + 1;
+}
+
+__kernel void splitBinFlags(__global const int* binStart, __global const int* binEnd, __global int* flags) {
+    const int b = get_global_id(0);
+    flags[b] = binEnd[b] > binStart[b] ? 1 : 0;
+}
+
+// groupOfBin: the exclusive scan of the flags, i.e. the group index of each non-empty bin.
+__kernel void splitWriteGroups(__global const int* binStart, __global const int* binEnd, __global const int* groupOfBin,
+                               __global const btoclSplitGrid* gridIn, __global btoclGroup* groups) {
+    const int b = get_global_id(0);
+    if (binEnd[b] <= binStart[b]) return;
+    btoclGroup g;
+    g.offset = binStart[b];
+    g.count = binEnd[b] - binStart[b];
+    g.numBatches = 0;
+    g.cell = btoclSplitCellOfKey(*gridIn, b);
+    groups[groupOfBin[b]] = g;
+}
+
+// One work-item. summary: [0..5] setGroupStart, [6] overflow constraints, [7] the cell edge's bits.
+__kernel void splitWriteSummary(__global const int* binStart, __global const int* binEnd,
+                                __global const int* groupOfBin, __global const int* numGroups,
+                                __global const btoclSplitGrid* gridIn, __global int* summary) {
+    if (get_global_id(0) != 0) return;
+    const btoclSplitGrid g = *gridIn;
+    for (int s = 0; s <= BTOCL_NUM_SETS; ++s) summary[s] = groupOfBin[s * g.cellsPerSet];
+    summary[BTOCL_NUM_SETS + 1] = *numGroups;
+    summary[BTOCL_NUM_SETS + 2] = binEnd[g.overflowKey] - binStart[g.overflowKey];
+    summary[BTOCL_NUM_SETS + 3] = as_int(g.cellSize);
+}

@@ -1,0 +1,261 @@
+// Global split and local batching: the device against its serial host twin (bitwise), the
+// invariants of DESIGN §5 on every layout, batch quality against greedy colouring, determinism.
+#include "BatchingScenes.h"
+#include "ConstraintBatches.h"
+#include "DeviceBatcher.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+using namespace btocl;
+using namespace btocl_test;
+
+namespace {
+
+// One runtime and batcher for the whole file: program builds take seconds.
+struct Fixture {
+    OclRuntime rt{""};
+    DeviceBatcher batcher{rt};
+    DeviceBuffer<btoclConstraint> constraints;
+};
+Fixture& fixture() {
+    static Fixture f;
+    return f;
+}
+
+BatchLayout runDevice(const BatchScene& scene, const SplitParams& params = SplitParams{}) {
+    Fixture& f = fixture();
+    f.constraints.write(f.rt, scene.constraints);
+    f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, params);
+    return f.batcher.download();
+}
+
+bool sameGroups(const std::vector<btoclGroup>& a, const std::vector<btoclGroup>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(btoclGroup)) == 0);
+}
+
+// Equal up to the batch ends past each group's last batch (never written, never read).
+void requireSameLayout(const BatchLayout& device, const BatchLayout& host) {
+    REQUIRE(device.setGroupStart == host.setGroupStart);
+    REQUIRE(sameGroups(device.groups, host.groups));
+    REQUIRE(device.solveOrder == host.solveOrder);
+    for (const btoclGroup& g : host.groups)
+        for (int k = 0; k < g.numBatches; ++k)
+            REQUIRE(device.batchEnd[size_t(g.offset + k)] == host.batchEnd[size_t(g.offset + k)]);
+    REQUIRE(device.numOverflowConstraints == host.numOverflowConstraints);
+    REQUIRE(device.cellSize == host.cellSize);
+}
+
+// The split alone must match the greedy reference: same groups with the same constraints.
+void requireSameSplit(const BatchLayout& a, const BatchLayout& b) {
+    REQUIRE(a.setGroupStart == b.setGroupStart);
+    REQUIRE(a.groups.size() == b.groups.size());
+    for (size_t g = 0; g < a.groups.size(); ++g) {
+        REQUIRE(a.groups[g].offset == b.groups[g].offset);
+        REQUIRE(a.groups[g].count == b.groups[g].count);
+        REQUIRE(a.groups[g].cell == b.groups[g].cell);
+        const auto first = [&](const BatchLayout& l) {
+            std::vector<int> v(l.solveOrder.begin() + l.groups[g].offset,
+                               l.solveOrder.begin() + l.groups[g].offset + l.groups[g].count);
+            std::sort(v.begin(), v.end());
+            return v;
+        };
+        REQUIRE(first(a) == first(b));
+    }
+}
+
+std::vector<BatchScene> allScenes() {
+    std::vector<BatchScene> scenes;
+    scenes.push_back(randomPile(1000, 1));
+    scenes.push_back(randomPile(3000, 2));
+    scenes.push_back(pyramid(40));
+    scenes.push_back(wall(30, 20));
+    scenes.push_back(denseBlock(12, 12, 12));
+    scenes.push_back(chain(3000));
+    scenes.push_back(plankWithBoxes());
+    scenes.push_back(allInOneCell(3));
+    scenes.push_back(hubTouching200(4));
+    scenes.push_back(randomPile(1000, 5, Vec3{1.0e6f, -1.0e6f, 1.0e6f}));
+    return scenes;
+}
+
+}  // namespace
+
+TEST_CASE("the host reference layout keeps every invariant", "[batching]") {
+    for (const BatchScene& scene : allScenes()) {
+        INFO(scene.name);
+        const BatchLayout layout = buildBatchesHost(scene.constraints, scene.bodies, SplitParams{});
+        CHECK(validateBatchLayout(layout, scene.constraints) == "");
+        // The grid is real: more than one group wherever the contacts spread over cells.
+        if (scene.name.find("one cell") == std::string::npos) CHECK(layout.groups.size() > 1);
+    }
+}
+
+TEST_CASE("the device layout equals its host twin bit for bit and keeps every invariant", "[batching]") {
+    const int window = fixture().batcher.windowSize(64);
+    for (const BatchScene& scene : allScenes()) {
+        INFO(scene.name << ", " << scene.constraints.size() << " constraints");
+        const BatchLayout device = runDevice(scene);
+        CHECK(validateBatchLayout(device, scene.constraints) == "");
+        requireSameLayout(device, buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
+        requireSameSplit(device, buildBatchesHost(scene.constraints, scene.bodies, SplitParams{}));
+    }
+}
+
+TEST_CASE("other work-group sizes, round counts and a fixed cell give the host twin's layout", "[batching]") {
+    const BatchScene scene = randomPile(1500, 7);
+    struct Case {
+        int wg, rounds;
+        float cell;
+    };
+    for (const Case c : {Case{32, 1, 0.0f}, Case{128, 2, 0.0f}, Case{64, 4, 3.0f}, Case{64, 8, 0.9f}}) {
+        INFO("workGroupSize " << c.wg << ", batchIterations " << c.rounds << ", cellSize " << c.cell);
+        SplitParams params;
+        params.workGroupSize = c.wg;
+        params.batchIterations = c.rounds;
+        params.cellSize = c.cell;
+        const BatchLayout device = runDevice(scene, params);
+        CHECK(validateBatchLayout(device, scene.constraints) == "");
+        requireSameLayout(device, buildBatchesHostStreamed(scene.constraints, scene.bodies, params,
+                                                           fixture().batcher.windowSize(c.wg)));
+    }
+}
+
+TEST_CASE("a dynamic body bigger than a cell sends its constraints to the overflow group", "[batching]") {
+    const BatchScene scene = plankWithBoxes();
+    const BatchLayout device = runDevice(scene);
+    // The plank's contacts: 2 with the ground, 100 with the boxes.
+    CHECK(device.numOverflowConstraints == 102);
+    REQUIRE(device.setGroupStart[BTOCL_OVERFLOW_SET + 1] - device.setGroupStart[BTOCL_OVERFLOW_SET] == 1);
+    const btoclGroup& overflow = device.groups.back();
+    CHECK(overflow.cell == -1);
+    CHECK(overflow.count == 102);
+    CHECK(overflow.numBatches == 102);  // all share the plank: one per batch, as greedy colouring
+    CHECK(fixture().batcher.stats().numOverflowConstraints == 102);
+    // A cell edge fixed below the boxes' span sends everything to the overflow group, still valid.
+    SplitParams tiny;
+    tiny.cellSize = 0.1f;
+    const BatchLayout all = runDevice(scene, tiny);
+    CHECK(all.numOverflowConstraints == int(scene.constraints.size()));
+    CHECK(all.groups.size() == 1);
+    CHECK(validateBatchLayout(all, scene.constraints) == "");
+}
+
+TEST_CASE("far from the origin the grid still has many cells", "[batching]") {
+    const BatchScene near = randomPile(1000, 5);
+    const BatchScene far = randomPile(1000, 5, Vec3{1.0e6f, -1.0e6f, 1.0e6f});
+    const BatchLayout a = runDevice(near);
+    const BatchLayout b = runDevice(far);
+    CHECK(validateBatchLayout(b, far.constraints) == "");
+    // float spacing at 1e6 is 1/16, so cells may shift a little; the grid must not collapse.
+    INFO("groups near the origin " << a.groups.size() << ", at 1e6 m " << b.groups.size());
+    CHECK(double(b.groups.size()) > 0.8 * double(a.groups.size()));
+}
+
+TEST_CASE("no constraint and one constraint", "[batching]") {
+    BatchScene empty = chain(1);
+    REQUIRE(empty.constraints.empty());
+    const BatchLayout none = runDevice(empty);
+    CHECK(none.groups.empty());
+    CHECK(none.solveOrder.empty());
+    CHECK(validateBatchLayout(none, empty.constraints) == "");
+    CHECK(fixture().batcher.stats().numBatchesMax == 0);
+
+    const BatchScene one = chain(2);
+    REQUIRE(one.constraints.size() == 1);
+    const BatchLayout single = runDevice(one);
+    REQUIRE(single.groups.size() == 1);
+    CHECK(single.groups[0].count == 1);
+    CHECK(single.groups[0].numBatches == 1);
+    CHECK(single.solveOrder == std::vector<int>{0});
+    CHECK(single.batchEnd[0] == 1);
+    CHECK(validateBatchLayout(single, one.constraints) == "");
+}
+
+TEST_CASE("two builds of a 1000-body pile give bitwise equal layouts", "[batching]") {
+    const BatchScene scene = randomPile(1000, 11);
+    const BatchLayout a = runDevice(scene);
+    const BatchLayout b = runDevice(randomPile(2000, 12));  // something else in between
+    (void)b;
+    const BatchLayout c = runDevice(scene);
+    // A second batcher: fresh buffers and kernels.
+    DeviceBatcher other(fixture().rt);
+    DeviceBuffer<btoclConstraint> buffer;
+    buffer.write(fixture().rt, scene.constraints);
+    other.build(buffer, int(scene.constraints.size()), scene.bodies, SplitParams{});
+    const BatchLayout d = other.download();
+    for (const BatchLayout* x : {&c, &d}) {
+        CHECK(x->solveOrder == a.solveOrder);
+        for (const btoclGroup& g : a.groups)  // the entries past a group's last batch are unused
+            for (int k = 0; k < g.numBatches; ++k)
+                CHECK(x->batchEnd[size_t(g.offset + k)] == a.batchEnd[size_t(g.offset + k)]);
+        CHECK(sameGroups(x->groups, a.groups));
+        CHECK(x->setGroupStart == a.setGroupStart);
+    }
+}
+
+TEST_CASE("batches per group stay within 1.5x of greedy colouring", "[batching]") {
+    for (const BatchScene& scene : {pyramid(40), wall(30, 20), randomPile(3000, 21), denseBlock(12, 12, 12)}) {
+        const BatchLayout device = runDevice(scene);
+        double worst = 0, sumDevice = 0, sumGreedy = 0;
+        for (const btoclGroup& g : device.groups) {
+            const int greedy = greedyBatchCount(scene.constraints, device.solveOrder.data() + g.offset, g.count);
+            const double ratio = double(g.numBatches) / double(greedy);
+            worst = std::max(worst, ratio);
+            sumDevice += g.numBatches;
+            sumGreedy += greedy;
+            INFO(scene.name << ": group at " << g.offset << " of " << g.count << " constraints");
+            CHECK(ratio <= 1.5);
+        }
+        std::printf("[batching] %-28s %6zu constraints %5zu groups: batches device/greedy total %.3f, worst group %.3f\n",
+                    scene.name.c_str(), scene.constraints.size(), device.groups.size(), sumDevice / sumGreedy, worst);
+    }
+}
+
+TEST_CASE("the validator names broken layouts", "[batching]") {
+    const BatchScene scene = pyramid(10);
+    const BatchLayout good = buildBatchesHost(scene.constraints, scene.bodies, SplitParams{});
+    REQUIRE(validateBatchLayout(good, scene.constraints) == "");
+
+    BatchLayout dup = good;
+    dup.solveOrder[1] = dup.solveOrder[0];
+    CHECK(validateBatchLayout(dup, scene.constraints).find("twice in solveOrder") != std::string::npos);
+
+    // One batch holding everything: boxes resting on each other share bodies.
+    BatchLayout merged = good;
+    for (btoclGroup& g : merged.groups) {
+        g.numBatches = 1;
+        merged.batchEnd[size_t(g.offset)] = g.offset + g.count;
+    }
+    CHECK(validateBatchLayout(merged, scene.constraints).find("twice in batch") != std::string::npos);
+
+    // All groups in set 0: neighbouring cells share boxes.
+    BatchLayout oneSet = good;
+    for (int s = 1; s <= BTOCL_NUM_SETS; ++s) oneSet.setGroupStart[size_t(s)] = int(oneSet.groups.size());
+    CHECK(validateBatchLayout(oneSet, scene.constraints).find("of set 0") != std::string::npos);
+
+    BatchLayout shortGroup = good;
+    shortGroup.groups[0].count -= 1;
+    CHECK(validateBatchLayout(shortGroup, scene.constraints) != "");
+}
+
+TEST_CASE("bad input is refused with a clear error", "[batching]") {
+    BatchScene scene = pyramid(5);
+    SplitParams params;
+    params.batchIterations = 0;
+    CHECK_THROWS_AS(runDevice(scene, params), btOpenCLSolverError);
+    params = SplitParams{};
+    params.workGroupSize = 1 << 20;
+    CHECK_THROWS_AS(runDevice(scene, params), btOpenCLSolverError);
+    params = SplitParams{};
+    params.cellSize = -1;
+    CHECK_THROWS_AS(runDevice(scene, params), btOpenCLSolverError);
+    scene.constraints[3].bodyB = int(scene.bodies.size()) + 5;
+    CHECK_THROWS_WITH(buildBatchesHost(scene.constraints, scene.bodies, SplitParams{}),
+                      Catch::Contains("names body"));
+}
