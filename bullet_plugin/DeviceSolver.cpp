@@ -8,14 +8,37 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
     m_solveSetPass = m_rt.makeKernel(m_program, "solveSetPass");
     m_endIteration = m_rt.makeKernel(m_program, "endIteration");
     m_gatherImpulses = m_rt.makeKernel(m_program, "gatherAppliedImpulses");
+    m_setupProgram = m_rt.buildProgramFile("setup.cl");
+    m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
 }
 
 void DeviceSolver::upload(const StepProblem& p) {
     m_bodies.write(m_rt, p.bodies);
     m_deltas.write(m_rt, p.deltas);
     m_constraints.write(m_rt, p.constraints);
-    m_rows.write(m_rt, p.rows);
     m_control.fill(m_rt, 0, BTOCL_CONTROL_SIZE);
+    if (!p.rowsOnDevice) {
+        m_rows.write(m_rt, p.rows);
+        return;
+    }
+    m_rows.reserve(m_rt, size_t(p.numRows()));
+    m_lateralDirs.reserve(m_rt, 2 * p.points.size());
+    m_points.write(m_rt, p.points);
+    if (p.points.empty()) return;
+    m_setupRows.setArg(0, m_points.buffer());
+    m_setupRows.setArg(1, m_bodies.buffer());
+    m_setupRows.setArg(2, m_rows.buffer());
+    m_setupRows.setArg(3, m_lateralDirs.buffer());
+    m_setupRows.setArg(4, p.setupParams);
+    const size_t wg = 64;
+    checkCl(m_rt.queue().enqueueNDRangeKernel(m_setupRows, cl::NullRange,
+                                              cl::NDRange((p.points.size() + wg - 1) / wg * wg), cl::NDRange(wg)),
+            "launching setupContactRows");
+}
+
+void DeviceSolver::downloadRows(StepProblem& p) const {
+    p.rows.resize(size_t(p.numRows()));
+    m_rows.read(m_rt, p.rows.data(), p.rows.size());
 }
 
 DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
@@ -55,6 +78,8 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flag
 
 void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     if (p.numNormalRows == 0) return;
+    if (p.rowsOnDevice && (p.setupParams.solverMode & BTOCL_SOLVER_USE_WARMSTARTING))
+        launchPass(layout, BTOCL_PASS_WARMSTART, s.flags);
     const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     auto endIteration = [&](int split) {
         if (!track) return;
@@ -88,9 +113,12 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
         checkCl(m_rt.queue().enqueueNDRangeKernel(m_gatherImpulses, cl::NullRange,
                                                   cl::NDRange((size_t(n) + wg - 1) / wg * wg), cl::NDRange(wg)),
                 "launching gatherAppliedImpulses");
-        m_impulsesHost.resize(size_t(n));
-        m_impulses.read(m_rt, m_impulsesHost.data(), size_t(n));
-        for (int i = 0; i < n; ++i) p.rows[size_t(i)].impulses.x = m_impulsesHost[size_t(i)];
+        p.appliedImpulses.resize(size_t(n));
+        m_impulses.read(m_rt, p.appliedImpulses.data(), size_t(n));
+    }
+    if (p.rowsOnDevice) {
+        p.lateralDirs.resize(2 * p.points.size());
+        m_lateralDirs.read(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
     }
     if (!(s.flags & BTOCL_FLAG_TRACK_RESIDUAL)) return p.numNormalRows > 0 ? s.numIterations : 0;
     int iterations = 0;

@@ -24,15 +24,18 @@ class DeviceSolver {
 public:
     DeviceSolver(const OclRuntime& runtime, int workGroupSize);
 
-    // Copies bodies, deltas, constraints and rows to the device.
+    // Copies bodies, deltas, constraints and rows (or contact points, then sets the rows up with
+    // kernels/setup.cl) to the device.
     void upload(const StepProblem& p);
     // Copies a host-built layout to this solver's own buffers.
     DeviceLayoutView uploadLayout(const BatchLayout& layout);
     // Enqueues every split-impulse and velocity iteration.
     void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
-    // Reads back p.deltas and the applied impulse of every normal and friction row into p.rows.
-    // Returns the number of velocity iterations the device ran.
+    // Reads back p.deltas, p.appliedImpulses (normal and friction rows) and, with rows set up on
+    // the device, p.lateralDirs. Returns the number of velocity iterations the device ran.
     int download(StepProblem& p, const SolveSettings& settings);
+    // Reads the rows as they are on the device into p.rows (tests compare them with the host's).
+    void downloadRows(StepProblem& p) const;
 
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
@@ -41,16 +44,17 @@ private:
 
     const OclRuntime& m_rt;
     int m_workGroupSize;
-    cl::Program m_program;
-    cl::Kernel m_solveSetPass, m_endIteration, m_gatherImpulses;
+    cl::Program m_program, m_setupProgram;
+    cl::Kernel m_solveSetPass, m_endIteration, m_gatherImpulses, m_setupRows;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints;
     DeviceBuffer<btoclRow> m_rows;
+    DeviceBuffer<btoclContactPoint> m_points;
+    DeviceBuffer<btoclFloat4> m_lateralDirs;
     DeviceBuffer<btoclGroup> m_groups;
     DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control;
     DeviceBuffer<float> m_impulses;
-    std::vector<float> m_impulsesHost;
 };
 
 }  // namespace btocl

@@ -130,8 +130,23 @@ RowValues torsionalRow(const btVector3& axis, const BodyView& a, const BodyView&
 
 }  // namespace
 
-void StepProblemBuilder::begin(const btContactSolverInfo& info) {
+static_assert(BTOCL_SOLVER_USE_WARMSTARTING == SOLVER_USE_WARMSTARTING &&
+                  BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS == SOLVER_USE_2_FRICTION_DIRECTIONS &&
+                  BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING == SOLVER_ENABLE_FRICTION_DIRECTION_CACHING &&
+                  BTOCL_SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION ==
+                      SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION,
+              "solver mode flags as Bullet's");
+static_assert(BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED == BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED &&
+                  BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM == BT_CONTACT_FLAG_HAS_CONTACT_CFM &&
+                  BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP == BT_CONTACT_FLAG_HAS_CONTACT_ERP &&
+                  BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING == BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING &&
+                  BTOCL_CONTACT_FLAG_FRICTION_ANCHOR == BT_CONTACT_FLAG_FRICTION_ANCHOR,
+              "contact point flags as Bullet's");
+
+void StepProblemBuilder::begin(const btContactSolverInfo& info, RowSetup setup) {
     m_info = info;
+    m_setup = setup;
+    m_manifolds.clear();
     StepProblem& p = m_problem;
     p.original.assign(1, nullptr);
     p.bodies.assign(1, btoclBody{});
@@ -140,13 +155,15 @@ void StepProblemBuilder::begin(const btContactSolverInfo& info) {
     p.splitBodies.assign(1, SplitBody{});
     p.constraints.clear();
     p.rows.clear();
+    p.points.clear();
+    p.pointTakesLateralDirs.clear();
     p.pointOfNormalRow.clear();
     p.frictionRowOfNormalRow.clear();
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
     m_normalRows.clear();
     m_frictionRows.clear();
     m_rollingRows.clear();
-    m_frictionOfNormal.clear();
+    m_numFriction = m_numRolling = 0;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
@@ -163,8 +180,8 @@ int StepProblemBuilder::addSolverBody(btRigidBody* rb) {
     btoclBody b{};
     const btScalar invMass = rb->getInvMass();
     b.invMass = f4(btVector3(invMass, invMass, invMass) * rb->getLinearFactor(), invMass != 0 ? 1.f : 0.f);
-    b.linearFactor = f4(rb->getLinearFactor());
-    b.angularFactor = f4(rb->getAngularFactor());
+    b.linearFactor = f4(rb->getLinearFactor(), invMass);
+    b.angularFactor = f4(rb->getAngularFactor(), 1.f);
     const btMatrix3x3& I = rb->getInvInertiaTensorWorld();
     b.invInertiaRow0 = f4(I[0]);
     b.invInertiaRow1 = f4(I[1]);
@@ -219,43 +236,114 @@ void StepProblemBuilder::addBodies(btCollisionObject* const* bodies, int numBodi
 }
 
 void StepProblemBuilder::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
-    for (int i = 0; i < numManifolds; ++i) addManifold(manifolds[i]);
+    m_manifolds.insert(m_manifolds.end(), manifolds, manifolds + numManifolds);
 }
 
-// btSequentialImpulseConstraintSolver::convertContact, rows appended per pass.
-void StepProblemBuilder::addManifold(btPersistentManifold* manifold) {
+namespace {
+
+void checkPoint(const btManifoldPoint& cp) {
+    if (!finite(cp.getPositionWorldOnA()) || !finite(cp.getPositionWorldOnB()) || !finite(cp.m_normalWorldOnB) ||
+        !std::isfinite(cp.getDistance()))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a contact point has a non-finite position, normal "
+                                  "or distance");
+}
+
+}  // namespace
+
+// The part of SI's convertContact before the points: solver bodies, and the skip of pairs that
+// cannot move. Returns false for a skipped manifold.
+bool StepProblemBuilder::beginManifold(btPersistentManifold* manifold, btoclConstraint& c) {
+    const int idA = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody0()));
+    const int idB = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody1()));
+    const StepProblem& p = m_problem;
+    // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
+    if (v3(p.bodies[idA].invMass).fuzzyZero() && v3(p.bodies[idB].invMass).fuzzyZero()) return false;
+    c = btoclConstraint{};
+    c.bodyA = idA;
+    c.bodyB = idB;
+    c.dynamicA = p.bodies[idA].invMass.w != 0;
+    c.dynamicB = p.bodies[idB].invMass.w != 0;
+    c.firstRow[BTOCL_PASS_NORMAL] = int(p.pointOfNormalRow.size());
+    c.firstRow[BTOCL_PASS_FRICTION] = m_numFriction;
+    c.firstRow[BTOCL_PASS_ROLLING] = m_numRolling;
+    return true;
+}
+
+void StepProblemBuilder::endManifold(btoclConstraint& c, const btVector3& pointSum) {
+    StepProblem& p = m_problem;
+    c.numRows[BTOCL_PASS_NORMAL] = int(p.pointOfNormalRow.size()) - c.firstRow[BTOCL_PASS_NORMAL];
+    c.numRows[BTOCL_PASS_FRICTION] = m_numFriction - c.firstRow[BTOCL_PASS_FRICTION];
+    c.numRows[BTOCL_PASS_ROLLING] = m_numRolling - c.firstRow[BTOCL_PASS_ROLLING];
+    if (c.numRows[BTOCL_PASS_NORMAL] == 0) return;
+    c.position = f4(pointSum / btScalar(c.numRows[BTOCL_PASS_NORMAL]));
+    p.constraints.push_back(c);
+}
+
+// The points of a manifold as records for kernels/setup.cl. Row counts are known here: one
+// normal row, one or two friction rows, three rolling rows when rolling friction is on.
+void StepProblemBuilder::packManifoldForDevice(btPersistentManifold* manifold) {
+    btoclConstraint c;
+    if (!beginManifold(manifold, c)) return;
+    StepProblem& p = m_problem;
+    const int mode = m_info.m_solverMode;
+    const int frictionRows = (mode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    btVector3 pointSum(0, 0, 0);
+    for (int j = 0; j < manifold->getNumContacts(); ++j) {
+        btManifoldPoint& cp = manifold->getContactPoint(j);
+        if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
+        checkPoint(cp);
+        pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
+        btoclContactPoint pt;
+        pt.positionOnA = f4(cp.getPositionWorldOnA(), cp.getDistance());
+        pt.positionOnB = f4(cp.getPositionWorldOnB(), cp.m_combinedFriction);
+        pt.normalOnB = f4(cp.m_normalWorldOnB, cp.m_combinedRestitution);
+        pt.lateralDir1 = f4(cp.m_lateralFrictionDir1, cp.m_contactMotion1);
+        pt.lateralDir2 = f4(cp.m_lateralFrictionDir2, cp.m_contactMotion2);
+        pt.impulseFriction = {cp.m_appliedImpulse, cp.m_combinedRollingFriction, cp.m_combinedSpinningFriction,
+                              cp.m_frictionCFM};
+        pt.contactCfmErp = {cp.m_contactCFM, cp.m_contactERP, cp.m_combinedContactStiffness1,
+                            cp.m_combinedContactDamping1};
+        pt.bodyA = c.bodyA;
+        pt.bodyB = c.bodyB;
+        pt.flags = cp.m_contactPointFlags;
+        pt.firstFrictionRow = m_numFriction;
+        pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? m_numRolling : -1;
+        pt.pad0 = pt.pad1 = pt.pad2 = 0;
+        const bool cached = (mode & SOLVER_ENABLE_FRICTION_DIRECTION_CACHING) &&
+                            (cp.m_contactPointFlags & BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED);
+        // As SI: plane-space directions with two directions and no velocity dependence are kept.
+        if (!cached && (mode & SOLVER_USE_2_FRICTION_DIRECTIONS) &&
+            (mode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION))
+            cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+        p.points.push_back(pt);
+        p.pointTakesLateralDirs.push_back(!cached);
+        p.pointOfNormalRow.push_back(&cp);
+        p.frictionRowOfNormalRow.push_back(m_numFriction);
+        m_numFriction += frictionRows;
+        if (pt.firstRollingRow >= 0) m_numRolling += 3;
+    }
+    endManifold(c, pointSum);
+}
+
+// btSequentialImpulseConstraintSolver::convertContact on the host, rows appended per pass.
+void StepProblemBuilder::setupManifoldOnHost(btPersistentManifold* manifold) {
+    btoclConstraint c;
+    if (!beginManifold(manifold, c)) return;
     btCollisionObject* obj0 = const_cast<btCollisionObject*>(manifold->getBody0());
     btCollisionObject* obj1 = const_cast<btCollisionObject*>(manifold->getBody1());
-    const int idA = solverBodyOf(obj0);
-    const int idB = solverBodyOf(obj1);
+    const int idA = c.bodyA, idB = c.bodyB;
     StepProblem& p = m_problem;
-    // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
-    if (v3(p.bodies[idA].invMass).fuzzyZero() && v3(p.bodies[idB].invMass).fuzzyZero()) return;
-
     const btContactSolverInfo& info = m_info;
     const int mode = info.m_solverMode;
     const btScalar invDt = btScalar(1) / info.m_timeStep;
     const BodyView a(p.original[idA], p.bodies[idA]);
     const BodyView b(p.original[idB], p.bodies[idB]);
-
-    btoclConstraint c{};
-    c.bodyA = idA;
-    c.bodyB = idB;
-    c.dynamicA = p.bodies[idA].invMass.w != 0;
-    c.dynamicB = p.bodies[idB].invMass.w != 0;
-    c.firstRow[BTOCL_PASS_NORMAL] = int(m_normalRows.size());
-    c.firstRow[BTOCL_PASS_FRICTION] = int(m_frictionRows.size());
-    c.firstRow[BTOCL_PASS_ROLLING] = int(m_rollingRows.size());
     btVector3 pointSum(0, 0, 0);
 
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
         if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
-        if (!finite(cp.getPositionWorldOnA()) || !finite(cp.getPositionWorldOnB()) || !finite(cp.m_normalWorldOnB) ||
-            !std::isfinite(cp.getDistance()))
-            throw btOpenCLSolverError("btOpenCLConstraintSolver: a contact point has a non-finite position, normal "
-                                      "or distance");
-
+        checkPoint(cp);
         const int normalIndex = int(m_normalRows.size());
         const btVector3 relPos1 = cp.getPositionWorldOnA() - obj0->getWorldTransform().getOrigin();
         const btVector3 relPos2 = cp.getPositionWorldOnB() - obj1->getWorldTransform().getOrigin();
@@ -348,7 +436,7 @@ void StepProblemBuilder::addManifold(btPersistentManifold* manifold) {
         }
         m_normalRows.push_back(pack(n, idA, idB, -1));
         p.pointOfNormalRow.push_back(&cp);
-        m_frictionOfNormal.push_back(int(m_frictionRows.size()));
+        p.frictionRowOfNormalRow.push_back(int(m_frictionRows.size()));
 
         // --- rolling and spinning friction (addTorsionalFrictionConstraint) ---
         if (cp.m_combinedRollingFriction > 0) {
@@ -408,37 +496,66 @@ void StepProblemBuilder::addManifold(btPersistentManifold* manifold) {
             addFriction(cp.m_lateralFrictionDir1, cp.m_contactMotion1, cp.m_frictionCFM);
             if (twoDirections) addFriction(cp.m_lateralFrictionDir2, cp.m_contactMotion2, cp.m_frictionCFM);
         }
+        m_numFriction = int(m_frictionRows.size());
+        m_numRolling = int(m_rollingRows.size());
     }
-
-    c.numRows[BTOCL_PASS_NORMAL] = int(m_normalRows.size()) - c.firstRow[BTOCL_PASS_NORMAL];
-    c.numRows[BTOCL_PASS_FRICTION] = int(m_frictionRows.size()) - c.firstRow[BTOCL_PASS_FRICTION];
-    c.numRows[BTOCL_PASS_ROLLING] = int(m_rollingRows.size()) - c.firstRow[BTOCL_PASS_ROLLING];
-    if (c.numRows[BTOCL_PASS_NORMAL] == 0) return;
-    c.position = f4(pointSum / btScalar(c.numRows[BTOCL_PASS_NORMAL]));
-    p.constraints.push_back(c);
+    endManifold(c, pointSum);
 }
 
 StepProblem& StepProblemBuilder::finish() {
     StepProblem& p = m_problem;
-    p.numNormalRows = int(m_normalRows.size());
-    p.numFrictionRows = int(m_frictionRows.size());
-    p.numRollingRows = int(m_rollingRows.size());
+    bool onDevice = m_setup == RowSetup::Device;
+    for (const btPersistentManifold* m : m_manifolds)
+        if (m->getBody0()->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
+                                                  btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION) ||
+            m->getBody1()->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
+                                                  btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION))
+            onDevice = false;
+    p.rowsOnDevice = onDevice;
+    for (btPersistentManifold* m : m_manifolds) {
+        if (onDevice)
+            packManifoldForDevice(m);
+        else
+            setupManifoldOnHost(m);
+    }
+    p.numNormalRows = int(p.pointOfNormalRow.size());
+    p.numFrictionRows = m_numFriction;
+    p.numRollingRows = m_numRolling;
     const int frictionBase = p.numNormalRows;
     const int rollingBase = frictionBase + p.numFrictionRows;
-    p.rows.clear();
-    p.rows.reserve(size_t(rollingBase + p.numRollingRows));
-    p.rows.insert(p.rows.end(), m_normalRows.begin(), m_normalRows.end());
-    p.rows.insert(p.rows.end(), m_frictionRows.begin(), m_frictionRows.end());
-    p.rows.insert(p.rows.end(), m_rollingRows.begin(), m_rollingRows.end());
     for (btoclConstraint& c : p.constraints) {
         c.firstRow[BTOCL_PASS_FRICTION] += frictionBase;
         c.firstRow[BTOCL_PASS_ROLLING] += rollingBase;
     }
-    p.frictionRowOfNormalRow.resize(size_t(p.numNormalRows));
-    for (int i = 0; i < p.numNormalRows; ++i) {
-        const int next = i + 1 < p.numNormalRows ? m_frictionOfNormal[size_t(i) + 1] : p.numFrictionRows;
-        p.frictionRowOfNormalRow[size_t(i)] = m_frictionOfNormal[size_t(i)] < next ? frictionBase + m_frictionOfNormal[size_t(i)] : -1;
+    for (btoclContactPoint& pt : p.points) {
+        pt.firstFrictionRow += frictionBase;
+        if (pt.firstRollingRow >= 0) pt.firstRollingRow += rollingBase;
     }
+    for (int& f : p.frictionRowOfNormalRow) f += frictionBase;
+    if (!onDevice) {
+        // Rows flat as the kernels read them; friction rows point at their normal row already.
+        p.rows.clear();
+        p.rows.reserve(size_t(p.numRows()));
+        p.rows.insert(p.rows.end(), m_normalRows.begin(), m_normalRows.end());
+        p.rows.insert(p.rows.end(), m_frictionRows.begin(), m_frictionRows.end());
+        p.rows.insert(p.rows.end(), m_rollingRows.begin(), m_rollingRows.end());
+    }
+    const btContactSolverInfo& info = m_info;
+    btoclSetupParams& prm = p.setupParams;
+    prm = btoclSetupParams{};
+    prm.timeStep = info.m_timeStep;
+    prm.invTimeStep = btScalar(1) / info.m_timeStep;
+    prm.sor = info.m_sor;
+    prm.globalCfm = info.m_globalCfm;
+    prm.erp2 = info.m_erp2;
+    prm.linearSlop = info.m_linearSlop;
+    prm.restitutionVelocityThreshold = info.m_restitutionVelocityThreshold;
+    prm.warmstartingFactor = info.m_warmstartingFactor;
+    prm.splitImpulsePenetrationThreshold = info.m_splitImpulsePenetrationThreshold;
+    prm.frictionERP = info.m_frictionERP;
+    prm.splitImpulse = info.m_splitImpulse;
+    prm.solverMode = info.m_solverMode;
+    prm.numPoints = int(p.points.size());
     return p;
 }
 

@@ -28,26 +28,41 @@ struct StepProblem {
 
     // One constraint per manifold that has rows; rows laid out [normal][friction][rolling].
     std::vector<btoclConstraint> constraints;
-    std::vector<btoclRow> rows;
     int numNormalRows = 0, numFrictionRows = 0, numRollingRows = 0;
 
-    // Per normal row: its manifold point, and the index in `rows` of its first friction row (-1: none).
+    // Rows set up on the host (the reference path, and the path for anisotropic friction) ...
+    bool rowsOnDevice = false;
+    std::vector<btoclRow> rows;
+    // ... or contact points that kernels/setup.cl turns into rows (normal row i is point i).
+    std::vector<btoclContactPoint> points;
+    std::vector<char> pointTakesLateralDirs;  // the device computes its friction directions
+    btoclSetupParams setupParams{};
+
+    // Per normal row: its manifold point, and the index of its first friction row (-1: none).
     std::vector<btManifoldPoint*> pointOfNormalRow;
     std::vector<int> frictionRowOfNormalRow;
 
+    // Read back after the solve: applied impulses of normal and friction rows; friction directions.
+    std::vector<float> appliedImpulses;
+    std::vector<btoclFloat4> lateralDirs;  // two per point, device setup only
+
     int numContactPoints() const { return numNormalRows; }
-    int numRows() const { return int(rows.size()); }
+    int numRows() const { return numNormalRows + numFrictionRows + numRollingRows; }
 };
+
+enum class RowSetup { Device, Host };
 
 // Builds a StepProblem from the bodies and manifolds Bullet passes in, across any number of
 // solveGroup calls of one step. Throws btOpenCLSolverError on non-finite input, before any
 // body or manifold is changed.
 class StepProblemBuilder {
 public:
-    void begin(const btContactSolverInfo& info);
+    // `setup` chooses where rows are set up; the host is used anyway when an object of the step
+    // has anisotropic friction, which the setup kernel does not handle.
+    void begin(const btContactSolverInfo& info, RowSetup setup = RowSetup::Device);
     void addBodies(btCollisionObject* const* bodies, int numBodies);
     void addManifolds(btPersistentManifold* const* manifolds, int numManifolds);
-    // Lays the rows out flat and returns the finished problem.
+    // Sets up (host) or packs (device) every manifold's rows and returns the finished problem.
     StepProblem& finish();
     // Returns every body's companion id to -1 (Bullet's "not in a solver").
     void releaseBodies();
@@ -55,15 +70,19 @@ public:
     const btContactSolverInfo& info() const { return m_info; }
 
 private:
-    struct SetupBody;
     int solverBodyOf(btCollisionObject* object);
     int addSolverBody(btRigidBody* rb);
-    void addManifold(btPersistentManifold* manifold);
+    void setupManifoldOnHost(btPersistentManifold* manifold);
+    void packManifoldForDevice(btPersistentManifold* manifold);
+    bool beginManifold(btPersistentManifold* manifold, btoclConstraint& c);
+    void endManifold(btoclConstraint& c, const btVector3& pointSum);
 
     btContactSolverInfo m_info;
+    RowSetup m_setup = RowSetup::Device;
+    std::vector<btPersistentManifold*> m_manifolds;
     StepProblem m_problem;
     std::vector<btoclRow> m_normalRows, m_frictionRows, m_rollingRows;
-    std::vector<int> m_frictionOfNormal;  // local friction index per normal row
+    int m_numFriction = 0, m_numRolling = 0;  // rows counted so far (device setup)
 };
 
 }  // namespace btocl

@@ -115,14 +115,19 @@ struct btOpenCLConstraintSolver::Impl {
             const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
             for (int i = 0; i < p.numNormalRows; ++i) {
                 btManifoldPoint* pt = p.pointOfNormalRow[size_t(i)];
-                pt->m_appliedImpulse = p.rows[size_t(i)].impulses.x;
-                const int f = p.frictionRowOfNormalRow[size_t(i)];
-                if (f >= 0) {
-                    pt->m_appliedImpulseLateral1 = p.rows[size_t(f)].impulses.x;
-                    if (two) pt->m_appliedImpulseLateral2 = p.rows[size_t(f) + 1].impulses.x;
-                }
+                const size_t f = size_t(p.frictionRowOfNormalRow[size_t(i)]);
+                pt->m_appliedImpulse = p.appliedImpulses[size_t(i)];
+                pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
+                if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];
             }
         }
+        if (p.rowsOnDevice)  // friction directions the setup kernel chose, as SI stores them
+            for (size_t i = 0; i < p.points.size(); ++i) {
+                if (!p.pointTakesLateralDirs[i]) continue;
+                btManifoldPoint* pt = p.pointOfNormalRow[i];
+                pt->m_lateralFrictionDir1 = v3(p.lateralDirs[2 * i]);
+                pt->m_lateralFrictionDir2 = v3(p.lateralDirs[2 * i + 1]);
+            }
         for (size_t i = 1; i < p.original.size(); ++i) {
             btRigidBody* rb = p.original[i];
             const btoclBody& b = p.bodies[i];

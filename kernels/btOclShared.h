@@ -27,10 +27,23 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_NUM_PASSES 4
 // Split-impulse penetration pass: the normal rows again, on push and turn velocities.
 #define BTOCL_PASS_PENETRATION 4
+// Warm start: the normal rows' starting impulses applied to the bodies (rows set up on the device).
+#define BTOCL_PASS_WARMSTART 5
 
 // Solver flags (btoclSolveParams.flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
+
+// Bullet's flags that row setup reads (checked against Bullet's own values in StepProblem.cpp).
+#define BTOCL_SOLVER_USE_WARMSTARTING 4
+#define BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS 16
+#define BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING 32
+#define BTOCL_SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION 64
+#define BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED 1
+#define BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM 2
+#define BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP 4
+#define BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING 8
+#define BTOCL_CONTACT_FLAG_FRICTION_ANCHOR 16
 
 // Slots of the control buffer that lets the device stop iterating without the host.
 #define BTOCL_CONTROL_STOPPED 0         // velocity iterations converged
@@ -43,8 +56,8 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 // One body as the solver sees it (btSolverBody). Static bodies: invMass 0, inertia 0.
 typedef struct {
     btoclFloat4 invMass;          // xyz: inverse mass times linear factor; w: 1 if dynamic else 0
-    btoclFloat4 linearFactor;     // xyz
-    btoclFloat4 angularFactor;    // xyz
+    btoclFloat4 linearFactor;     // xyz; w: the body's scalar inverse mass
+    btoclFloat4 angularFactor;    // xyz; w: 1 for a rigid body (dynamic or kinematic), 0 for the fixed body
     btoclFloat4 invInertiaRow0;   // world inverse inertia tensor, rows
     btoclFloat4 invInertiaRow1;
     btoclFloat4 invInertiaRow2;
@@ -77,6 +90,31 @@ typedef struct {
     int flags;
 } btoclRow;
 
+// One btManifoldPoint, as the row setup kernel reads it. Its normal row has the point's index.
+typedef struct {
+    btoclFloat4 positionOnA;     // w: distance
+    btoclFloat4 positionOnB;     // w: combined friction
+    btoclFloat4 normalOnB;       // w: combined restitution
+    btoclFloat4 lateralDir1;     // cached friction direction; w: contact motion 1
+    btoclFloat4 lateralDir2;     // w: contact motion 2
+    btoclFloat4 impulseFriction; // x: applied impulse (warm start), y: rolling, z: spinning friction, w: friction CFM
+    btoclFloat4 contactCfmErp;   // x: contact CFM, y: contact ERP, z: stiffness, w: damping
+    int bodyA, bodyB;
+    int flags;                   // btManifoldPoint::m_contactPointFlags
+    int firstFrictionRow;        // friction rows: 1 or 2 from here
+    int firstRollingRow;         // -1, or 3 rolling/spinning rows from here
+    int pad0, pad1, pad2;
+} btoclContactPoint;
+
+// The btContactSolverInfo values that row setup reads.
+typedef struct {
+    float timeStep, invTimeStep, sor, globalCfm;
+    float erp2, linearSlop, restitutionVelocityThreshold, warmstartingFactor;
+    float splitImpulsePenetrationThreshold, frictionERP;
+    int splitImpulse, solverMode;
+    int numPoints, pad0, pad1, pad2;
+} btoclSetupParams;
+
 // The unit of batching: the rows of one body pair (a contact manifold, later a joint).
 // Its rows of each pass are contiguous: rows [firstRow[p], firstRow[p] + numRows[p]).
 typedef struct {
@@ -103,6 +141,8 @@ static_assert(sizeof(btoclBodyDelta) == 4 * 16, "btoclBodyDelta layout");
 static_assert(sizeof(btoclRow) == 8 * 16, "btoclRow layout");
 static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
+static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");
+static_assert(sizeof(btoclSetupParams) == 4 * 16, "btoclSetupParams layout");
 #endif
 
 #endif

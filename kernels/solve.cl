@@ -68,6 +68,18 @@ float solveConstraintPass(__global const btoclConstraint* c, __global btoclRow* 
                           __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass,
                           int applyFactors) {
     float maxResidual2 = 0.0f;
+    if (pass == BTOCL_PASS_WARMSTART) {
+        // SI applies each normal row's starting impulse to both bodies as it sets the row up.
+        for (int r = c->firstRow[BTOCL_PASS_NORMAL]; r < c->firstRow[BTOCL_PASS_NORMAL] + c->numRows[BTOCL_PASS_NORMAL]; ++r) {
+            __global const btoclRow* row = rows + r;
+            const float applied = row->impulses.x;
+            __global const btoclBody* bA = bodies + row->bodyA;
+            __global const btoclBody* bB = bodies + row->bodyB;
+            applyImpulse(deltas + row->bodyA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, applied, 1, 0);
+            applyImpulse(deltas + row->bodyB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, applied, 1, 0);
+        }
+        return 0.0f;
+    }
     const int rowPass = pass == BTOCL_PASS_PENETRATION ? BTOCL_PASS_NORMAL : pass;
     const int first = c->firstRow[rowPass];
     const int end = first + c->numRows[rowPass];
