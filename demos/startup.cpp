@@ -3,6 +3,8 @@
 //   startup                 one run in the current PoCL cache; prints JSON
 //   startup --cold-warm     runs itself twice with POCL_CACHE_DIR set to a fresh empty
 //                           directory (cold), then the same directory again (warm)
+//   --boost                 also times the Boost.Compute backend (not used by default):
+//                           first construction, again on the same context, on a new context
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "KernelSources.h"
@@ -34,7 +36,7 @@ bool endsWith(const std::string& s, const char* tail) {
 }
 
 // One measurement in this process; prints a JSON object.
-int runOnce() {
+int runOnce(bool withBoost) {
     const auto tAll = std::chrono::steady_clock::now();
     auto t0 = std::chrono::steady_clock::now();
     OclRuntime rt("");
@@ -69,23 +71,46 @@ int runOnce() {
     rt.finish("tiny sort and scan");
     const double msTiny = msSince(t0);
 
+    const double msTotal = msSince(tAll);
+
+    // For comparison, not part of the total: what the Boost.Compute backend costs. Boost.Compute
+    // keeps its compiled programs per OpenCL context, in memory only.
+    double msBoost[3] = {0, 0, 0};
+    if (withBoost) {
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives boostFirst(rt, DevicePrimitives::Backend::BoostCompute);
+        msBoost[0] = msSince(t0);
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives boostSameContext(rt, DevicePrimitives::Backend::BoostCompute);
+        msBoost[1] = msSince(t0);
+        OclRuntime rt2("");
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives boostNewContext(rt2, DevicePrimitives::Backend::BoostCompute);
+        msBoost[2] = msSince(t0);
+    }
+
     std::printf("{\"device\": \"%s\", \"pocl_cache_dir\": \"%s\",\n"
                 "    \"runtime_ms\": %.1f, \"programs_build_ms\": %.1f, \"programs\": [%s],\n"
                 "    \"device_primitives\": \"%s\", \"device_primitives_construct_ms\": %.1f,"
-                " \"tiny_sort_scan_ms\": %.2f, \"total_ms\": %.1f}",
+                " \"tiny_sort_scan_ms\": %.2f, \"total_ms\": %.1f",
                 rt.deviceName().c_str(), std::getenv("POCL_CACHE_DIR") ? std::getenv("POCL_CACHE_DIR") : "(default)",
-                msRuntime, msPrograms, programs.c_str(), prims.backendName(), msPrimitives, msTiny, msSince(tAll));
+                msRuntime, msPrograms, programs.c_str(), prims.backendName(), msPrimitives, msTiny, msTotal);
+    if (withBoost)
+        std::printf(",\n    \"boost_compute_construct_ms\": {\"first\": %.1f, \"again_same_context\": %.1f,"
+                    " \"new_context\": %.1f}",
+                    msBoost[0], msBoost[1], msBoost[2]);
+    std::printf("}");
     std::fflush(stdout);
     return 0;
 }
 
 // Runs this program again (single mode) with POCL_CACHE_DIR=dir; returns its exit status.
-int runChild(const char* self, const std::string& dir) {
+int runChild(const char* self, const std::string& dir, bool withBoost) {
     const pid_t pid = fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
         setenv("POCL_CACHE_DIR", dir.c_str(), 1);
-        execl(self, self, static_cast<char*>(nullptr));
+        execl(self, self, withBoost ? "--boost" : static_cast<char*>(nullptr), static_cast<char*>(nullptr));
         _exit(127);
     }
     int status = 0;
@@ -97,23 +122,28 @@ int runChild(const char* self, const std::string& dir) {
 
 int main(int argc, char** argv) {
     try {
-        if (argc > 1 && std::strcmp(argv[1], "--cold-warm") == 0) {
+        bool coldWarm = false, withBoost = false;
+        for (int i = 1; i < argc; ++i) {
+            coldWarm |= std::strcmp(argv[i], "--cold-warm") == 0;
+            withBoost |= std::strcmp(argv[i], "--boost") == 0;
+        }
+        if (coldWarm) {
             std::array<char, 64> tmpl{};
             std::snprintf(tmpl.data(), tmpl.size(), "/tmp/btocl-pocl-cache-XXXXXX");
             if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
             const std::string dir = tmpl.data();
             std::printf("{\"cold\": ");
             std::fflush(stdout);
-            int rc = runChild("/proc/self/exe", dir);
+            int rc = runChild("/proc/self/exe", dir, withBoost);
             std::printf(",\n \"warm\": ");
             std::fflush(stdout);
-            rc |= runChild("/proc/self/exe", dir);
+            rc |= runChild("/proc/self/exe", dir, withBoost);
             std::printf("}\n");
             const std::string rm = "rm -rf '" + dir + "'";
             if (std::system(rm.c_str()) != 0) std::fprintf(stderr, "startup: could not remove %s\n", dir.c_str());
             return rc;
         }
-        const int rc = runOnce();
+        const int rc = runOnce(withBoost);
         std::printf("\n");
         return rc;
     } catch (const std::exception& e) {
