@@ -17,13 +17,16 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_deltas.write(m_rt, p.deltas);
     m_constraints.write(m_rt, p.constraints);
     m_control.fill(m_rt, 0, BTOCL_CONTROL_SIZE);
-    if (!p.rowsOnDevice) {
+    if (p.rowsOnDevice)
+        m_points.write(m_rt, p.points);
+    else
         m_rows.write(m_rt, p.rows);
-        return;
-    }
+}
+
+void DeviceSolver::setupRows(const StepProblem& p) {
+    if (!p.rowsOnDevice) return;
     m_rows.reserve(m_rt, size_t(p.numRows()));
     m_lateralDirs.reserve(m_rt, 2 * p.points.size());
-    m_points.write(m_rt, p.points);
     if (p.points.empty()) return;
     m_setupRows.setArg(0, m_points.buffer());
     m_setupRows.setArg(1, m_bodies.buffer());

@@ -24,9 +24,10 @@ class DeviceSolver {
 public:
     DeviceSolver(const OclRuntime& runtime, int workGroupSize);
 
-    // Copies bodies, deltas, constraints and rows (or contact points, then sets the rows up with
-    // kernels/setup.cl) to the device.
+    // Copies bodies, deltas, constraints and rows (or contact points) to the device.
     void upload(const StepProblem& p);
+    // With rows set up on the device: sets them up from the contact points (kernels/setup.cl).
+    void setupRows(const StepProblem& p);
     // Copies a host-built layout to this solver's own buffers.
     DeviceLayoutView uploadLayout(const BatchLayout& layout);
     // Enqueues every split-impulse and velocity iteration.

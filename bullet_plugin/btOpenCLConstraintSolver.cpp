@@ -1,9 +1,9 @@
 #include "btOpenCLConstraintSolver.h"
 
 #include "ConstraintBatches.h"
+#include "DeviceBatcher.h"
 #include "DeviceSolver.h"
 #include "OclRuntime.h"
-#include "SerialLayout.h"
 #include "SolveSettings.h"
 #include "StepProblem.h"
 
@@ -25,7 +25,7 @@ btVector3 v3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
 
 struct btOpenCLConstraintSolver::Impl {
     explicit Impl(const btOpenCLSolverConfig& c)
-        : config(checked(c)), runtime(c.device), device(runtime, c.workGroupSize) {}
+        : config(checked(c)), runtime(c.device), device(runtime, c.workGroupSize), batcher(runtime) {}
 
     static const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
         if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
@@ -41,6 +41,7 @@ struct btOpenCLConstraintSolver::Impl {
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
     btocl::DeviceSolver device;
+    btocl::DeviceBatcher batcher;
     btocl::StepProblemBuilder builder;
     btOpenCLSolverStats stats;
     bool inStep = false;       // between prepareSolve and allSolved
@@ -73,19 +74,40 @@ struct btOpenCLConstraintSolver::Impl {
             s.msGather = msGather + msSince(t);
 
             t = Clock::now();
+            device.upload(p);
+            runtime.finish("uploading the step");
+            s.msUpload = msSince(t);
+
+            t = Clock::now();
+            device.setupRows(p);
+            runtime.finish("setting up the rows");
+            s.msSetup = msSince(t);
+
+            // Global split and local batches on the device, from the constraints just uploaded.
             btocl::SplitParams params;
             params.cellSize = float(config.cellSize);
             params.batchIterations = config.batchIterations;
             params.workGroupSize = config.workGroupSize;
-            // Until the device split and batching land: SI's own order, one constraint per batch.
-            const btocl::BatchLayout layout = btocl::buildSerialLayout(int(p.constraints.size()));
-            s.msSplit = msSince(t);
-
-            t = Clock::now();
-            device.upload(p);
-            const btocl::DeviceLayoutView view = device.uploadLayout(layout);
-            runtime.finish("uploading the step");
-            s.msUpload = msSince(t);
+            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params);
+            btocl::DeviceLayoutView view;
+            view.groups = &batcher.groups().buffer();
+            view.solveOrder = &batcher.solveOrder().buffer();
+            view.batchEnd = &batcher.batchEnd().buffer();
+            view.setGroupStart = batcher.setGroupStart();
+            const btocl::DeviceBatchStats& batchStats = batcher.stats();
+            s.msSplit = batchStats.msSplit;
+            s.msBatch = batchStats.msBatch;
+            s.numCellGroups = batchStats.numCellGroups;
+            s.numBatchesMax = batchStats.numBatchesMax;
+            s.numBatchesMean = batchStats.numBatchesMean;
+            s.numOverflowConstraints = batchStats.numOverflowConstraints;
+            if (config.validate) {
+                const std::string failure = btocl::validateBatchLayout(batcher.download(), p.constraints);
+                if (!failure.empty()) {
+                    s.validationFailures += 1;
+                    s.lastValidationMessage = failure;
+                }
+            }
 
             t = Clock::now();
             device.iterate(p, view, settings);
@@ -100,7 +122,7 @@ struct btOpenCLConstraintSolver::Impl {
             writeBack(p, info);
             s.msWriteback = msSince(t);
 
-            fillCounts(s, p, layout);
+            fillCounts(s, p);
         } catch (...) {
             builder.releaseBodies();  // leave the world as it was before the step's solve
             throw;
@@ -149,19 +171,11 @@ struct btOpenCLConstraintSolver::Impl {
         }
     }
 
-    static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p, const btocl::BatchLayout& layout) {
+    static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p) {
         s.numBodies = int(p.original.size()) - 1;
         s.numContactPoints = p.numContactPoints();
         s.numConstraintRows = p.numRows();
         s.numJointRows = 0;
-        s.numCellGroups = int(layout.groups.size());
-        s.numOverflowConstraints = layout.numOverflowConstraints;
-        long total = 0;
-        for (const btoclGroup& g : layout.groups) {
-            s.numBatchesMax = std::max(s.numBatchesMax, g.numBatches);
-            total += g.numBatches;
-        }
-        s.numBatchesMean = layout.groups.empty() ? 0.0 : double(total) / double(layout.groups.size());
     }
 };
 

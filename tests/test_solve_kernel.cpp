@@ -122,6 +122,7 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
     OclRuntime rt("");
     DeviceSolver solver(rt, 64);
     solver.upload(dev);
+    solver.setupRows(dev);
     const SolveSettings settings = SolveSettings::from(info);
     solver.iterate(dev, solver.uploadLayout(buildSerialLayout(int(dev.constraints.size()))), settings);
     solver.download(dev, settings);
