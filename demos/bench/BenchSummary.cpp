@@ -23,7 +23,8 @@ JsonValue timing(const std::vector<double>& ms) {
 
 JsonValue quality(const SolverSide& side, const RunFacts& facts) {
     JsonValue q = JsonValue::object();
-    q["maxPenetration"] = double(-side.minDistance);
+    q["maxPenetration"] = double(-side.minDistance);  // over the run, impacts included
+    q["finalPenetration"] = double(-side.lastMinDistance);
     q["maxDrift"] = double(side.maxDrift);
     q["driftFromStep"] = facts.driftFromStep;
     q["kineticEnergy"] = side.scene ? JsonValue(kineticEnergy(*side.scene)) : JsonValue();

@@ -69,7 +69,8 @@ void stepSolverSide(SolverSide& side, double dt) {
 
 void trackQuality(SolverSide& side, bool setDriftReference) {
     if (!side.scene) return;
-    side.minDistance = std::min(side.minDistance, minContactDistance(*side.scene));
+    side.lastMinDistance = minContactDistance(*side.scene);
+    side.minDistance = std::min(side.minDistance, side.lastMinDistance);
     if (setDriftReference) side.driftReference = dynamicPositions(*side.scene);
     if (!side.driftReference.empty())
         side.maxDrift = std::max(side.maxDrift, maxDistance(dynamicPositions(*side.scene), side.driftReference));

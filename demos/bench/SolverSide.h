@@ -42,6 +42,7 @@ struct SolverSide {
 
     // Quality, tracked over the run.
     btScalar minDistance = 0;               // most negative contact distance seen
+    btScalar lastMinDistance = 0;           // the same, in the last state tracked
     std::vector<btVector3> driftReference;  // positions at the drift reference step
     btScalar maxDrift = 0;
 };
