@@ -21,19 +21,6 @@ void islands(World& w) {
     w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5), 6)), slider);
 }
 
-// Body by body, b moved as a did: within 2 mm plus 5% of the way a's body went since `start`.
-// 2 mm: the boxes of a column jitter by about 1 mm around rest (SI's do), so two runs that
-// order the work differently can sit 2 mm apart; 5%: the friction bound of the sliding tests.
-double worstExcessGap(const World& a, const World& b, const std::vector<btVector3>& start) {
-    double worst = -1;  // largest gap - tolerance; <= 0 when all bodies agree
-    for (size_t i = 0; i < a.bodies().size(); ++i) {
-        if (a.body(i)->isStaticOrKinematicObject()) continue;
-        const double tol = 2e-3 + 0.05 * distance(pos(a.body(i)), start[i]);
-        worst = std::max(worst, double(distance(pos(a.body(i)), pos(b.body(i)))) - tol);
-    }
-    return worst;
-}
-
 void setSplit(World& w, bool split) {
     w.dyn().getSimulationIslandManager()->setSplitIslands(split);
     w.info().m_minimumSolverBatchSize = 1;  // each island its own solveGroup call when split
