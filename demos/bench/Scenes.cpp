@@ -66,13 +66,22 @@ void buildPile(SceneWorld& w, int count) {
     const btScalar spacing = 1.8f;  // > sqrt(3), a unit box's diagonal: no two start overlapping
     addGround(w, btScalar(side) * spacing + 20);
     Lcg rng{12345u};
+    btScalar layerShiftX = 0, layerShiftZ = 0;
     for (int k = 0; k < n; ++k) {
         const int ix = k % side, iz = (k / side) % side, iy = k / (side * side);
+        // Each layer is shifted as a whole by a random fraction of the spacing, so the boxes of
+        // one lattice column do not land on each other in a tower. Within a layer the spacing,
+        // and between layers the height step, exceed a box's diagonal: nothing starts overlapping.
+        if (ix == 0 && iz == 0) {
+            layerShiftX = (rng.next() - 0.5f) * spacing;
+            layerShiftZ = (rng.next() - 0.5f) * spacing;
+        }
         // Random orientations so the boxes tumble into a heap instead of stacking neatly.
         btQuaternion q(btVector3(rng.next() - 0.5f, rng.next() - 0.5f, rng.next() - 0.5f + 1e-3f).normalized(),
                        rng.next() * SIMD_PI);
         const btScalar half = 0.5f * spacing * btScalar(side - 1);
-        btTransform t(q, btVector3(btScalar(ix) * spacing - half, 1.0f + btScalar(iy) * spacing, btScalar(iz) * spacing - half));
+        btTransform t(q, btVector3(btScalar(ix) * spacing - half + layerShiftX, 1.0f + btScalar(iy) * spacing,
+                                   btScalar(iz) * spacing - half + layerShiftZ));
         w.addBox(kUnitHalf, t, kDensity);
     }
 }
