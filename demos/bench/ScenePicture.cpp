@@ -32,6 +32,11 @@ Image drawWorlds(const std::vector<const SceneWorld*>& worlds, int panelWidth, i
     const Camera camera = fitCamera(boxesOf(*worlds[0], true));
     for (size_t i = 0; i < worlds.size(); ++i)
         renderBoxes(boxesOf(*worlds[i], false), camera, image, int(i) * panelWidth, panelWidth);
+    // A dark line between panels.
+    for (size_t i = 1; i < worlds.size(); ++i)
+        for (int y = 0; y < panelHeight; ++y)
+            for (int x = int(i) * panelWidth - 1; x <= int(i) * panelWidth; ++x)
+                for (int k = 0; k < 3; ++k) image.rgb[(size_t(y) * size_t(image.width) + size_t(x)) * 3 + size_t(k)] = 40;
     return image;
 }
 
