@@ -3,9 +3,15 @@
 namespace btocl {
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
-    : m_rt(runtime), m_workGroupSize(workGroupSize) {
+    // A CPU device runs the lanes of a work-group one after another, and each barrier between
+    // batches is a pass over all of them: there one lane per group walks the batches in order.
+    : m_rt(runtime), m_workGroupSize(runtime.isCpu() ? 1 : workGroupSize) {
     m_program = m_rt.buildProgramFile("solve.cl");
-    m_solveSetPass = m_rt.makeKernel(m_program, "solveSetPass");
+    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_program, "solveNormalRows");
+    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_program, "solveFrictionRows");
+    m_passKernels[BTOCL_PASS_ROLLING] = m_rt.makeKernel(m_program, "solveRollingRows");
+    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_program, "solvePenetrationRows");
+    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_program, "applyWarmStart");
     m_endIteration = m_rt.makeKernel(m_program, "endIteration");
     m_gatherImpulses = m_rt.makeKernel(m_program, "gatherAppliedImpulses");
     m_setupProgram = m_rt.buildProgramFile("setup.cl");
@@ -57,7 +63,7 @@ DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
 }
 
 void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags) {
-    cl::Kernel& k = m_solveSetPass;
+    cl::Kernel& k = m_passKernels[size_t(pass)];
     k.setArg(0, *layout.groups);
     k.setArg(2, *layout.solveOrder);
     k.setArg(3, *layout.batchEnd);
@@ -66,8 +72,7 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flag
     k.setArg(6, m_bodies.buffer());
     k.setArg(7, m_deltas.buffer());
     k.setArg(8, m_control.buffer());
-    k.setArg(9, pass);
-    k.setArg(10, flags);
+    k.setArg(9, flags);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
@@ -75,7 +80,7 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flag
         k.setArg(1, first);
         checkCl(m_rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(count) * size_t(m_workGroupSize)),
                                                   cl::NDRange(size_t(m_workGroupSize))),
-                "launching solveSetPass");
+                "launching a solve pass");
     }
 }
 

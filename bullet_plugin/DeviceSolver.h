@@ -22,6 +22,7 @@ struct DeviceLayoutView {
 
 class DeviceSolver {
 public:
+    // workGroupSize: lanes per group on a GPU; a CPU device uses one lane per group.
     DeviceSolver(const OclRuntime& runtime, int workGroupSize);
 
     // Copies bodies, deltas, constraints and rows (or contact points) to the device.
@@ -46,7 +47,8 @@ private:
     const OclRuntime& m_rt;
     int m_workGroupSize;
     cl::Program m_program, m_setupProgram;
-    cl::Kernel m_solveSetPass, m_endIteration, m_gatherImpulses, m_setupRows;
+    std::array<cl::Kernel, 6> m_passKernels;
+    cl::Kernel m_endIteration, m_gatherImpulses, m_setupRows;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints;

@@ -2,6 +2,7 @@
 // One launch solves one set for one pass: a work-group takes one group and walks its batches in
 // order; constraints of a batch share no dynamic body, so its lanes run without conflicts, and
 // groups of one set share none either. The row update is btSequentialImpulseConstraintSolver's.
+// One kernel per pass, so that the compiler folds the pass's branches away.
 #include "btOclShared.h"
 
 inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -26,7 +27,7 @@ inline void applyImpulse(__global btoclBodyDelta* d, __global const btoclBody* b
 }
 
 // One row, clamped to [lower, upper]; returns the residual as SI reports it.
-float solveRow(__global btoclRow* row, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
+inline float solveRow(__global btoclRow* row, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
                float lower, float upper, int applyFactors, int push) {
     __global btoclBodyDelta* dA = deltas + row->bodyA;
     __global btoclBodyDelta* dB = deltas + row->bodyB;
@@ -64,7 +65,7 @@ float solveRow(__global btoclRow* row, __global const btoclBody* bodies, __globa
 }
 
 // The rows of one constraint for one pass; returns the largest squared residual.
-float solveConstraintPass(__global const btoclConstraint* c, __global btoclRow* rows,
+inline float solveConstraintPass(__global const btoclConstraint* c, __global btoclRow* rows,
                           __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass,
                           int applyFactors) {
     float maxResidual2 = 0.0f;
@@ -104,10 +105,10 @@ float solveConstraintPass(__global const btoclConstraint* c, __global btoclRow* 
 }
 
 // One set, one pass: work-group g solves group groups[groupBase + g], batch after batch.
-__kernel void solveSetPass(__global const btoclGroup* groups, int groupBase, __global const int* solveOrder,
-                           __global const int* batchEnd, __global const btoclConstraint* constraints,
-                           __global btoclRow* rows, __global const btoclBody* bodies,
-                           __global btoclBodyDelta* deltas, __global int* control, int pass, int flags) {
+inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* solveOrder,
+                     __global const int* batchEnd, __global const btoclConstraint* constraints,
+                     __global btoclRow* rows, __global const btoclBody* bodies,
+                     __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags) {
     const int stopSlot = pass == BTOCL_PASS_PENETRATION ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED;
     if (control[stopSlot]) return;  // the same for every work-item: converged in an earlier iteration
     const btoclGroup g = groups[groupBase + get_group_id(0)];
@@ -130,6 +131,19 @@ __kernel void solveSetPass(__global const btoclGroup* groups, int groupBase, __g
         atomic_max(control + slot, as_int(maxResidual2));
     }
 }
+
+#define BTOCL_SOLVE_KERNEL(name, PASS)                                                                          \
+    __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* solveOrder,      \
+                       __global const int* batchEnd, __global const btoclConstraint* constraints,             \
+                       __global btoclRow* rows, __global const btoclBody* bodies,                             \
+                       __global btoclBodyDelta* deltas, __global int* control, int flags) {                   \
+        solveSet(groups, groupBase, solveOrder, batchEnd, constraints, rows, bodies, deltas, control, PASS, flags); \
+    }
+BTOCL_SOLVE_KERNEL(solveNormalRows, BTOCL_PASS_NORMAL)
+BTOCL_SOLVE_KERNEL(solveFrictionRows, BTOCL_PASS_FRICTION)
+BTOCL_SOLVE_KERNEL(solveRollingRows, BTOCL_PASS_ROLLING)
+BTOCL_SOLVE_KERNEL(solvePenetrationRows, BTOCL_PASS_PENETRATION)
+BTOCL_SOLVE_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
 
 // After each iteration when a residual threshold is set: stop once the residual is small enough.
 __kernel void endIteration(__global int* control, float threshold, int split) {

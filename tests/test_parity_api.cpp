@@ -25,7 +25,7 @@ bool finiteState(const btRigidBody* b) {
 
 }  // namespace
 
-TEST_CASE("parity: a world with a joint gets a btOpenCLSolverError that names joints", "[parity][!mayfail]") {
+TEST_CASE("parity: a world with a joint gets a btOpenCLSolverError that names joints", "[parity]") {
     World w(SolverKind::OpenCL);
     w.addGround();
     btRigidBody* a = w.addBox(kUnitHalf, 1, at(btVector3(0, 3, 0)));
@@ -49,7 +49,7 @@ TEST_CASE("parity: a world with a joint gets a btOpenCLSolverError that names jo
     REQUIRE(pos(a).y() < 3);  // it fell
 }
 
-TEST_CASE("parity: getLastStats counts the bodies and contact points of a known scene", "[parity][!mayfail]") {
+TEST_CASE("parity: getLastStats counts the bodies and contact points of a known scene", "[parity]") {
     World w(SolverKind::OpenCL);
     w.addGround();
     for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(btScalar(3 * i), btScalar(0.5), 0)));
@@ -73,7 +73,7 @@ TEST_CASE("parity: getLastStats counts the bodies and contact points of a known 
     REQUIRE(s.msTotal > 0);
 }
 
-TEST_CASE("parity: getDeviceName names the device", "[parity][!mayfail]") {
+TEST_CASE("parity: getDeviceName names the device", "[parity]") {
     btOpenCLConstraintSolver solver(validatingConfig());
     REQUIRE_FALSE(solver.getDeviceName().empty());
 }

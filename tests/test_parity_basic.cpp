@@ -27,7 +27,7 @@ btScalar speedAlong(const btRigidBody* b, const btVector3& d) { return b->getLin
 
 }  // namespace
 
-TEST_CASE("parity: free fall without contacts matches SI to float precision", "[parity][!mayfail]") {
+TEST_CASE("parity: free fall without contacts matches SI to float precision", "[parity]") {
     Pair p;
     p.build([](World& w) {
         BodyOptions tumbling;  // three distinct inertias: SI adds the implicit gyroscopic impulse
@@ -56,7 +56,7 @@ TEST_CASE("parity: free fall without contacts matches SI to float precision", "[
     REQUIRE(p.ref.body(1)->getLinearVelocity().y() == Approx(-kG * t).epsilon(1e-4));
 }
 
-TEST_CASE("parity: a box resting on the ground stays and carries m*g*dt per step", "[parity][!mayfail]") {
+TEST_CASE("parity: a box resting on the ground stays and carries m*g*dt per step", "[parity]") {
     const btScalar mass = 3;
     Pair p;
     p.build([&](World& w) {
@@ -88,7 +88,7 @@ TEST_CASE("parity: a box resting on the ground stays and carries m*g*dt per step
     REQUIRE(worstGap <= 0.01 * expected);
 }
 
-TEST_CASE("parity: a box sliding on flat ground slows at mu*g as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a box sliding on flat ground slows at mu*g as with SI", "[parity]") {
     const btScalar mu = btScalar(0.5);  // the ground's friction is 1: the product is mu
     Pair p;
     p.build([&](World& w) {
@@ -144,7 +144,7 @@ SlopeRun buildSlope(Pair& p, double degrees, btScalar mu) {
 
 }  // namespace
 
-TEST_CASE("parity: a box on a slope below atan(mu) sticks as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a box on a slope below atan(mu) sticks as with SI", "[parity]") {
     const btScalar mu = btScalar(0.5);  // atan(0.5) = 26.6 degrees
     Pair p;
     const SlopeRun s = buildSlope(p, 20, mu);
@@ -158,7 +158,7 @@ TEST_CASE("parity: a box on a slope below atan(mu) sticks as with SI", "[parity]
     REQUIRE(slipOurs < 5e-3);
 }
 
-TEST_CASE("parity: a box on a slope above atan(mu) slides at g(sin t - mu cos t) as SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a box on a slope above atan(mu) slides at g(sin t - mu cos t) as SI", "[parity]") {
     const btScalar mu = btScalar(0.5);
     const double degrees = 35;
     Pair p;
@@ -182,7 +182,7 @@ TEST_CASE("parity: a box on a slope above atan(mu) slides at g(sin t - mu cos t)
     REQUIRE(closeRel(aOurs, aRef, 0.05, 0));
 }
 
-TEST_CASE("parity: a sphere with restitution 0.5 rebounds as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a sphere with restitution 0.5 rebounds as with SI", "[parity]") {
     const btScalar e = btScalar(0.5);  // the ground's restitution is 1: the product is e
     Pair p;
     p.build([&](World& w) {

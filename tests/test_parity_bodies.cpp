@@ -19,7 +19,7 @@ void pusherScene(World& w) {
 
 }  // namespace
 
-TEST_CASE("parity: a kinematic body pushes boxes as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a kinematic body pushes boxes as with SI", "[parity]") {
     Pair p;
     p.build(pusherScene);
     const std::vector<btVector3> start = positionsOf(p.ref);
@@ -55,7 +55,7 @@ void lockedAxisScene(World& w) {
 
 }  // namespace
 
-TEST_CASE("parity: a zero linear factor on one axis holds the body on it as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: a zero linear factor on one axis holds the body on it as with SI", "[parity]") {
     Pair p;
     p.build(lockedAxisScene);
     const std::vector<btVector3> start = positionsOf(p.ref);
@@ -72,7 +72,7 @@ TEST_CASE("parity: a zero linear factor on one axis holds the body on it as with
     REQUIRE(excess <= 0);
 }
 
-TEST_CASE("parity: two worlds with two solvers in one process each match SI", "[parity][!mayfail]") {
+TEST_CASE("parity: two worlds with two solvers in one process each match SI", "[parity]") {
     Pair a, b;
     a.build([](World& w) {
         w.addGround();

@@ -28,7 +28,7 @@ void setSplit(World& w, bool split) {
 
 }  // namespace
 
-TEST_CASE("parity: islands split and not split give the same result", "[parity][!mayfail]") {
+TEST_CASE("parity: islands split and not split give the same result", "[parity]") {
     World refSplit(SolverKind::Reference), refWhole(SolverKind::Reference);
     World oursSplit(candidateKind()), oursWhole(candidateKind());
     for (World* w : {&refSplit, &oursSplit}) setSplit(*w, true);
@@ -72,7 +72,7 @@ bool allAsleep(const World& w) {
 
 }  // namespace
 
-TEST_CASE("parity: with sleeping on, bodies come to rest and deactivate as with SI", "[parity][!mayfail]") {
+TEST_CASE("parity: with sleeping on, bodies come to rest and deactivate as with SI", "[parity]") {
     Pair p;
     p.build(droppedBoxes);
     int asleepRef = -1, asleepOurs = -1;

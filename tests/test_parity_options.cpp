@@ -58,13 +58,13 @@ void requireStackAndSliderAsSI(Pair& p) {
 
 }  // namespace
 
-TEST_CASE("parity: warm starting on gives SI's results", "[parity][!mayfail]") {
+TEST_CASE("parity: warm starting on gives SI's results", "[parity]") {
     Pair p;
     p.configure([](btContactSolverInfo& i) { i.m_solverMode |= SOLVER_USE_WARMSTARTING; });
     requireStackAndSliderAsSI(p);
 }
 
-TEST_CASE("parity: warm starting off gives SI's results", "[parity][!mayfail]") {
+TEST_CASE("parity: warm starting off gives SI's results", "[parity]") {
     Pair p;
     p.configure([](btContactSolverInfo& i) { i.m_solverMode &= ~SOLVER_USE_WARMSTARTING; });
     requireStackAndSliderAsSI(p);
@@ -102,7 +102,7 @@ RecoveryTrace traceRecovery(Pair& p) {
 
 }  // namespace
 
-TEST_CASE("parity: split impulse on pushes out without velocity, as SI", "[parity][!mayfail]") {
+TEST_CASE("parity: split impulse on pushes out without velocity, as SI", "[parity]") {
     Pair p;
     p.configure([](btContactSolverInfo& i) {
         i.m_splitImpulse = 1;
@@ -118,7 +118,7 @@ TEST_CASE("parity: split impulse on pushes out without velocity, as SI", "[parit
     REQUIRE(t.maxGap < 1e-3);
 }
 
-TEST_CASE("parity: split impulse off recovers through the velocity (Baumgarte), as SI", "[parity][!mayfail]") {
+TEST_CASE("parity: split impulse off recovers through the velocity (Baumgarte), as SI", "[parity]") {
     Pair p;
     p.configure([](btContactSolverInfo& i) {
         i.m_splitImpulse = 0;
@@ -151,7 +151,7 @@ void spinningSlider(World& w) {
 
 }  // namespace
 
-TEST_CASE("parity: two friction directions give SI's sliding and spinning", "[parity][!mayfail]") {
+TEST_CASE("parity: two friction directions give SI's sliding and spinning", "[parity]") {
     for (const bool two : {false, true}) {
         Pair p;
         p.configure([&](btContactSolverInfo& i) {
@@ -190,7 +190,7 @@ void rollingSphere(World& w, btScalar rollingFriction) {
 
 }  // namespace
 
-TEST_CASE("parity: rolling friction slows a rolling sphere as SI", "[parity][!mayfail]") {
+TEST_CASE("parity: rolling friction slows a rolling sphere as SI", "[parity]") {
     Pair p;
     p.build([](World& w) { rollingSphere(w, btScalar(0.05)); });
     p.step(60);
