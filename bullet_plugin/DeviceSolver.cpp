@@ -5,17 +5,29 @@ namespace btocl {
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
     // A CPU device runs the lanes of a work-group one after another, and each barrier between
     // batches is a pass over all of them: there one lane per group walks the batches in order.
-    : m_rt(runtime), m_workGroupSize(runtime.isCpu() ? 1 : workGroupSize) {
-    m_program = m_rt.buildProgramFile("solve.cl");
-    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_program, "solveNormalRows");
-    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_program, "solveFrictionRows");
-    m_passKernels[BTOCL_PASS_ROLLING] = m_rt.makeKernel(m_program, "solveRollingRows");
-    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_program, "solvePenetrationRows");
-    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_program, "applyWarmStart");
-    m_endIteration = m_rt.makeKernel(m_program, "endIteration");
-    m_gatherImpulses = m_rt.makeKernel(m_program, "gatherAppliedImpulses");
+    : m_rt(runtime), m_workGroupSize(runtime.isCpu() ? 1 : workGroupSize), m_primitives(runtime) {
+    m_solveProgram = m_rt.buildProgramFile("solve.cl");
+    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
+    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
+    m_passKernels[BTOCL_PASS_ROLLING] = m_rt.makeKernel(m_solveProgram, "solveRollingRows");
+    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
+    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
+    m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
     m_setupProgram = m_rt.buildProgramFile("setup.cl");
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
+    m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
+    m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");
+    m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
+    m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");
+    m_gatherImpulses = m_rt.makeKernel(m_arrangeProgram, "gatherAppliedImpulses");
+}
+
+void DeviceSolver::launch(cl::Kernel& kernel, size_t items, const char* what) {
+    if (items == 0) return;
+    const size_t wg = 64;
+    checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((items + wg - 1) / wg * wg),
+                                              cl::NDRange(wg)),
+            what);
 }
 
 void DeviceSolver::upload(const StepProblem& p) {
@@ -26,28 +38,7 @@ void DeviceSolver::upload(const StepProblem& p) {
     if (p.rowsOnDevice)
         m_points.write(m_rt, p.points);
     else
-        m_rows.write(m_rt, p.rows);
-}
-
-void DeviceSolver::setupRows(const StepProblem& p) {
-    if (!p.rowsOnDevice) return;
-    m_rows.reserve(m_rt, size_t(p.numRows()));
-    m_lateralDirs.reserve(m_rt, 2 * p.points.size());
-    if (p.points.empty()) return;
-    m_setupRows.setArg(0, m_points.buffer());
-    m_setupRows.setArg(1, m_bodies.buffer());
-    m_setupRows.setArg(2, m_rows.buffer());
-    m_setupRows.setArg(3, m_lateralDirs.buffer());
-    m_setupRows.setArg(4, p.setupParams);
-    const size_t wg = 64;
-    checkCl(m_rt.queue().enqueueNDRangeKernel(m_setupRows, cl::NullRange,
-                                              cl::NDRange((p.points.size() + wg - 1) / wg * wg), cl::NDRange(wg)),
-            "launching setupContactRows");
-}
-
-void DeviceSolver::downloadRows(StepProblem& p) const {
-    p.rows.resize(size_t(p.numRows()));
-    m_rows.read(m_rt, p.rows.data(), p.rows.size());
+        m_hostRows.write(m_rt, p.rows);
 }
 
 DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
@@ -62,17 +53,57 @@ DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
     return view;
 }
 
+void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout) {
+    const int n = int(p.constraints.size());
+    const int numRows = p.numRows();
+    m_placed.reserve(m_rt, size_t(n));
+    m_rowBase.reserve(m_rt, size_t(n));
+    m_rowMap.reserve(m_rt, size_t(numRows));
+    m_rows.reserve(m_rt, size_t(numRows));
+    if (n == 0) return;
+    // Row offsets in solve order: a count per position, then an exclusive scan.
+    m_countRows.setArg(0, *layout.solveOrder);
+    m_countRows.setArg(1, m_constraints.buffer());
+    m_countRows.setArg(2, m_rowBase.buffer());
+    m_countRows.setArg(3, n);
+    launch(m_countRows, size_t(n), "launching countRowsInSolveOrder");
+    m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
+    m_placeConstraints.setArg(0, *layout.solveOrder);
+    m_placeConstraints.setArg(1, m_constraints.buffer());
+    m_placeConstraints.setArg(2, m_rowBase.buffer());
+    m_placeConstraints.setArg(3, m_placed.buffer());
+    m_placeConstraints.setArg(4, m_rowMap.buffer());
+    m_placeConstraints.setArg(5, n);
+    launch(m_placeConstraints, size_t(n), "launching placeConstraints");
+
+    if (!p.rowsOnDevice) {
+        m_placeRows.setArg(0, m_hostRows.buffer());
+        m_placeRows.setArg(1, m_rowMap.buffer());
+        m_placeRows.setArg(2, m_rows.buffer());
+        m_placeRows.setArg(3, numRows);
+        launch(m_placeRows, size_t(numRows), "launching placeRows");
+        return;
+    }
+    m_lateralDirs.reserve(m_rt, 2 * p.points.size());
+    m_setupRows.setArg(0, m_points.buffer());
+    m_setupRows.setArg(1, m_bodies.buffer());
+    m_setupRows.setArg(2, m_rowMap.buffer());
+    m_setupRows.setArg(3, m_rows.buffer());
+    m_setupRows.setArg(4, m_lateralDirs.buffer());
+    m_setupRows.setArg(5, p.setupParams);
+    launch(m_setupRows, p.points.size(), "launching setupContactRows");
+}
+
 void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags) {
     cl::Kernel& k = m_passKernels[size_t(pass)];
     k.setArg(0, *layout.groups);
-    k.setArg(2, *layout.solveOrder);
-    k.setArg(3, *layout.batchEnd);
-    k.setArg(4, m_constraints.buffer());
-    k.setArg(5, m_rows.buffer());
-    k.setArg(6, m_bodies.buffer());
-    k.setArg(7, m_deltas.buffer());
-    k.setArg(8, m_control.buffer());
-    k.setArg(9, flags);
+    k.setArg(2, *layout.batchEnd);
+    k.setArg(3, m_placed.buffer());
+    k.setArg(4, m_rows.buffer());
+    k.setArg(5, m_bodies.buffer());
+    k.setArg(6, m_deltas.buffer());
+    k.setArg(7, m_control.buffer());
+    k.setArg(8, flags);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
@@ -112,16 +143,14 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     m_deltas.read(m_rt, p.deltas.data(), p.deltas.size());
     const int n = p.numNormalRows + p.numFrictionRows;
+    p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
         m_impulses.reserve(m_rt, size_t(n));
         m_gatherImpulses.setArg(0, m_rows.buffer());
-        m_gatherImpulses.setArg(1, m_impulses.buffer());
-        m_gatherImpulses.setArg(2, n);
-        const size_t wg = 64;
-        checkCl(m_rt.queue().enqueueNDRangeKernel(m_gatherImpulses, cl::NullRange,
-                                                  cl::NDRange((size_t(n) + wg - 1) / wg * wg), cl::NDRange(wg)),
-                "launching gatherAppliedImpulses");
-        p.appliedImpulses.resize(size_t(n));
+        m_gatherImpulses.setArg(1, m_rowMap.buffer());
+        m_gatherImpulses.setArg(2, m_impulses.buffer());
+        m_gatherImpulses.setArg(3, n);
+        launch(m_gatherImpulses, size_t(n), "launching gatherAppliedImpulses");
         m_impulses.read(m_rt, p.appliedImpulses.data(), size_t(n));
     }
     if (p.rowsOnDevice) {
@@ -132,6 +161,20 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     int iterations = 0;
     m_control.read(m_rt, &iterations, 1, nullptr, BTOCL_CONTROL_ITERATIONS);
     return iterations;
+}
+
+std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
+    const size_t n = size_t(p.numRows());
+    const std::vector<btoclRow> placed = m_rows.read(m_rt, n);
+    const std::vector<int> map = m_rowMap.read(m_rt, n);
+    std::vector<int> unmap(n);
+    for (size_t r = 0; r < n; ++r) unmap[size_t(map[r])] = int(r);
+    std::vector<btoclRow> rows(n);
+    for (size_t r = 0; r < n; ++r) {
+        rows[r] = placed[size_t(map[r])];
+        if (rows[r].frictionIndex >= 0) rows[r].frictionIndex = unmap[size_t(rows[r].frictionIndex)];
+    }
+    return rows;
 }
 
 }  // namespace btocl

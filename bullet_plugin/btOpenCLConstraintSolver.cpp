@@ -78,10 +78,6 @@ struct btOpenCLConstraintSolver::Impl {
             runtime.finish("uploading the step");
             s.msUpload = msSince(t);
 
-            t = Clock::now();
-            device.setupRows(p);
-            runtime.finish("setting up the rows");
-            s.msSetup = msSince(t);
 
             // Global split and local batches on the device, from the constraints just uploaded.
             btocl::SplitParams params;
@@ -108,6 +104,11 @@ struct btOpenCLConstraintSolver::Impl {
                     s.lastValidationMessage = failure;
                 }
             }
+
+            t = Clock::now();
+            device.arrange(p, view);
+            runtime.finish("setting up the rows");
+            s.msSetup = msSince(t);
 
             t = Clock::now();
             device.iterate(p, view, settings);

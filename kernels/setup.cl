@@ -96,8 +96,10 @@ void torsionalRow(__global btoclRow* row, float4 axis, const btoclBody* A, const
              friction, bodyA, bodyB, pointIndex);
 }
 
+// rowMap: where each row (by its index in gather order) lives in the solve-order layout.
 __kernel void setupContactRows(__global const btoclContactPoint* points, __global const btoclBody* bodies,
-                               __global btoclRow* rows, __global float4* lateralDirs, btoclSetupParams prm) {
+                               __global const int* rowMap, __global btoclRow* rows, __global float4* lateralDirs,
+                               btoclSetupParams prm) {
     const int i = get_global_id(0);
     if (i >= prm.numPoints) return;
     const btoclContactPoint pt = points[i];
@@ -171,7 +173,8 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         rhsPenetration = penetrationImpulse;
     }
     const float friction = pt.positionOnB.w;
-    storeRow(rows + i, n1, rp1, n2, rp2, angA, angB, rhs, rhsPenetration, cfm * jac, jac, 0.0f, 1e10f, applied,
+    const int normalRow = rowMap[i];
+    storeRow(rows + normalRow, n1, rp1, n2, rp2, angA, angB, rhs, rhsPenetration, cfm * jac, jac, 0.0f, 1e10f, applied,
              friction, pt.bodyA, pt.bodyB, -1);
 
     // --- rolling and spinning friction ---
@@ -180,9 +183,12 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         planeSpace(n, &axis0, &axis1);
         axis0 = normalize(axis0);
         axis1 = normalize(axis1);
-        torsionalRow(rows + pt.firstRollingRow, n, &A, &B, hasA, hasB, pt.impulseFriction.z, pt.bodyA, pt.bodyB, i);
-        torsionalRow(rows + pt.firstRollingRow + 1, axis0, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA, pt.bodyB, i);
-        torsionalRow(rows + pt.firstRollingRow + 2, axis1, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA, pt.bodyB, i);
+        torsionalRow(rows + rowMap[pt.firstRollingRow], n, &A, &B, hasA, hasB, pt.impulseFriction.z, pt.bodyA, pt.bodyB,
+                     normalRow);
+        torsionalRow(rows + rowMap[pt.firstRollingRow + 1], axis0, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+                     pt.bodyB, normalRow);
+        torsionalRow(rows + rowMap[pt.firstRollingRow + 2], axis1, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+                     pt.bodyB, normalRow);
     }
 
     // --- friction rows: from the sliding velocity, the plane space, or the cached directions ---
@@ -206,7 +212,9 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         motion2 = pt.lateralDir2.w;
         cfmSlip = pt.impulseFriction.w;
     }
-    frictionRow(rows + pt.firstFrictionRow, dir1, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion1, cfmSlip, i);
+    frictionRow(rows + rowMap[pt.firstFrictionRow], dir1, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion1,
+                cfmSlip, normalRow);
     if (two)
-        frictionRow(rows + pt.firstFrictionRow + 1, dir2, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion2, cfmSlip, i);
+        frictionRow(rows + rowMap[pt.firstFrictionRow + 1], dir2, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm,
+                    motion2, cfmSlip, normalRow);
 }

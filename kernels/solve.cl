@@ -104,8 +104,9 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global bto
     return maxResidual2;
 }
 
-// One set, one pass: work-group g solves group groups[groupBase + g], batch after batch.
-inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* solveOrder,
+// One set, one pass: work-group g solves group groups[groupBase + g], batch after batch. The
+// constraints are in solve order already (kernels/arrange.cl): position i holds the i-th.
+inline void solveSet(__global const btoclGroup* groups, int groupBase,
                      __global const int* batchEnd, __global const btoclConstraint* constraints,
                      __global btoclRow* rows, __global const btoclBody* bodies,
                      __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags) {
@@ -121,7 +122,7 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
         const int end = batchEnd[g.offset + k];
         for (int i = start + lane; i < end; i += lanes)
             maxResidual2 = fmax(maxResidual2,
-                                solveConstraintPass(constraints + solveOrder[i], rows, bodies, deltas, pass, applyFactors));
+                                solveConstraintPass(constraints + i, rows, bodies, deltas, pass, applyFactors));
         barrier(CLK_GLOBAL_MEM_FENCE);  // the next batch reads what this one wrote
         start = end;
     }
@@ -133,11 +134,11 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
 }
 
 #define BTOCL_SOLVE_KERNEL(name, PASS)                                                                          \
-    __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* solveOrder,      \
+    __kernel void name(__global const btoclGroup* groups, int groupBase,                                      \
                        __global const int* batchEnd, __global const btoclConstraint* constraints,             \
                        __global btoclRow* rows, __global const btoclBody* bodies,                             \
                        __global btoclBodyDelta* deltas, __global int* control, int flags) {                   \
-        solveSet(groups, groupBase, solveOrder, batchEnd, constraints, rows, bodies, deltas, control, PASS, flags); \
+        solveSet(groups, groupBase, batchEnd, constraints, rows, bodies, deltas, control, PASS, flags);         \
     }
 BTOCL_SOLVE_KERNEL(solveNormalRows, BTOCL_PASS_NORMAL)
 BTOCL_SOLVE_KERNEL(solveFrictionRows, BTOCL_PASS_FRICTION)
@@ -153,10 +154,4 @@ __kernel void endIteration(__global int* control, float threshold, int split) {
     if (!split) control[BTOCL_CONTROL_ITERATIONS] += 1;
     if (as_float(control[residualSlot]) <= threshold) control[stopSlot] = 1;
     control[residualSlot] = 0;
-}
-
-// The applied impulse of each row, for the write-back to the manifold points.
-__kernel void gatherAppliedImpulses(__global const btoclRow* rows, __global float* out, int n) {
-    const int i = get_global_id(0);
-    if (i < n) out[i] = rows[i].impulses.x;
 }

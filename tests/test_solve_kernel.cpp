@@ -55,7 +55,9 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     OclRuntime rt("");
     DeviceSolver solver(rt, 64);
     solver.upload(dev);
-    solver.iterate(dev, solver.uploadLayout(layout), settings);
+    const DeviceLayoutView view = solver.uploadLayout(layout);
+    solver.arrange(dev, view);
+    solver.iterate(dev, view, settings);
     solver.download(dev, settings);
 
     // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
@@ -122,11 +124,12 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
     OclRuntime rt("");
     DeviceSolver solver(rt, 64);
     solver.upload(dev);
-    solver.setupRows(dev);
     const SolveSettings settings = SolveSettings::from(info);
-    solver.iterate(dev, solver.uploadLayout(buildSerialLayout(int(dev.constraints.size()))), settings);
+    const DeviceLayoutView view = solver.uploadLayout(buildSerialLayout(int(dev.constraints.size())));
+    solver.arrange(dev, view);
+    solver.iterate(dev, view, settings);
     solver.download(dev, settings);
-    solver.downloadRows(dev);
+    dev.rows = solver.downloadRows(dev);
 
     // The kernel evaluates SI's formulas in the same order; fused multiply-adds and OpenCL's own
     // normalize() change the last bits only: 1e-5 relative (absolute below 1).

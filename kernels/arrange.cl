@@ -1,0 +1,50 @@
+// Lays the constraints and their rows out in solve order (set, group, batch), so that every
+// solve pass streams through memory instead of jumping across it. A constraint's rows stay
+// together, pass after pass: [normal rows][friction rows][rolling rows].
+// Host reference: the layout checks of tests/test_solve_kernel.cpp (rows read back through the map).
+#include "btOclShared.h"
+
+inline int rowCount(const btoclConstraint* c) {
+    return c->numRows[0] + c->numRows[1] + c->numRows[2] + c->numRows[3];
+}
+
+__kernel void countRowsInSolveOrder(__global const int* solveOrder, __global const btoclConstraint* constraints,
+                                    __global int* counts, int n) {
+    const int i = get_global_id(0);
+    if (i >= n) return;
+    const btoclConstraint c = constraints[solveOrder[i]];
+    counts[i] = rowCount(&c);
+}
+
+// Constraint solveOrder[i] goes to position i with its rows from rowBase[i] on; rowMap records
+// the new index of each of its rows (indexed by the row's index in gather order).
+__kernel void placeConstraints(__global const int* solveOrder, __global const btoclConstraint* constraints,
+                               __global const int* rowBase, __global btoclConstraint* placed,
+                               __global int* rowMap, int n) {
+    const int i = get_global_id(0);
+    if (i >= n) return;
+    btoclConstraint c = constraints[solveOrder[i]];
+    int next = rowBase[i];
+    for (int pass = 0; pass < BTOCL_NUM_PASSES; ++pass) {
+        for (int k = 0; k < c.numRows[pass]; ++k) rowMap[c.firstRow[pass] + k] = next + k;
+        c.firstRow[pass] = next;
+        next += c.numRows[pass];
+    }
+    placed[i] = c;
+}
+
+// Rows set up on the host, in gather order, to their places.
+__kernel void placeRows(__global const btoclRow* in, __global const int* rowMap, __global btoclRow* out, int n) {
+    const int r = get_global_id(0);
+    if (r >= n) return;
+    btoclRow row = in[r];
+    if (row.frictionIndex >= 0) row.frictionIndex = rowMap[row.frictionIndex];
+    out[rowMap[r]] = row;
+}
+
+// The applied impulse of rows [0, n) in gather order, for the write-back to the manifold points.
+__kernel void gatherAppliedImpulses(__global const btoclRow* rows, __global const int* rowMap, __global float* out,
+                                    int n) {
+    const int r = get_global_id(0);
+    if (r < n) out[r] = rows[rowMap[r]].impulses.x;
+}
