@@ -23,7 +23,7 @@ int tableBitsFor(int window) {
 }
 
 size_t batchLocalBytes(int wg, int window) {
-    return sizeof(int) * (size_t(window) * 12 + size_t(3) * (size_t(1) << tableBitsFor(window)) + 2 * size_t(wg) + 2);
+    return sizeof(int) * (size_t(window) * 14 + size_t(3) * (size_t(1) << tableBitsFor(window)) + 2 * size_t(wg) + 2);
 }
 
 template <class... Args>

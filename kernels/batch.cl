@@ -1,15 +1,16 @@
 // Local batch creation (DESIGN §1, the paper's §2.2): one work-group per constraint group splits
 // the group into batches in which no dynamic body appears twice.
 //
-// The group streams through a local window of BATCH_WINDOW constraints. For each batch the window's
-// dynamic bodies get exact slots in a local open-addressing table (so no false conflicts), then
-// `rounds` locking rounds run: every pending constraint offers its priority (batch_priority.h: a hash of its
-// index, then its window position) to the slots of its bodies with atomic_min; a constraint that holds the minimum of all its slots is scheduled and locks
-// them; one whose body is locked waits for the next batch. Only minima decide, so the result does not
-// depend on the order lanes run in, and the smallest pending priority always wins: each batch takes at
-// least one constraint. Scheduled constraints leave through a local output buffer at positions from a
-// prefix sum over lanes; the rest are compacted (in order) and the window is refilled from the group.
-// No lane ever waits for another except at barriers, which every lane reaches (uniform loops).
+// The group streams through a local window of BATCH_WINDOW constraints. The window's dynamic bodies
+// have exact slots in a local open-addressing table (so no false conflicts). For each batch `rounds`
+// locking rounds run: every pending constraint offers its priority (batch_priority.h: a hash of its
+// index, then its window position) to the slots of its bodies with atomic_min; a constraint that holds
+// the minimum of all its slots is scheduled and locks them; one whose body is locked waits for the
+// next batch. Only minima decide, so the result does not depend on the order lanes run in, and the
+// smallest pending priority always wins: each batch takes at least one constraint. Scheduled
+// constraints leave through a local output buffer at positions from a prefix sum over lanes; the rest
+// are compacted (in order) and the window is refilled from the group. No lane ever waits for another
+// except at barriers, which every lane reaches (uniform loops).
 #include "btOclShared.h"
 #include "batch_priority.h"
 
@@ -20,7 +21,7 @@
 #define BATCH_WINDOW 512  // a multiple of BATCH_WG
 #endif
 #ifndef BATCH_TABLE_BITS
-#define BATCH_TABLE_BITS 11  // 2^bits slots > 2 * BATCH_WINDOW bodies, so a probe always ends
+#define BATCH_TABLE_BITS 11  // 2^bits >= 4 * BATCH_WINDOW slots
 #endif
 #ifndef BATCH_WINDOW_BITS
 #define BATCH_WINDOW_BITS 9  // BATCH_WINDOW <= 2^bits
@@ -34,16 +35,18 @@
 #define ST_BLOCKED 1
 #define ST_SCHEDULED 2
 
-// The slot of `body`, inserting it if new. Lock-free: a slot goes from empty to a body once, so every
-// lane probing for the same body walks the same filled slots and stops at the same one.
-static int batchTableSlot(__local int* keys, int body) {
-    uint h = ((uint)body * 2654435761u) >> (32 - BATCH_TABLE_BITS);
-    for (int probe = 0; probe < BATCH_TABLE; ++probe) {
+// The slot of `body` in a table of 2^bits slots, inserting it if new. Lock-free: a slot goes from
+// empty to a body once, so every lane probing for the same body walks the same filled slots and stops
+// at the same one. The table is never more than half full, so the probe ends.
+static int batchTableSlot(__local int* keys, int bits, int body) {
+    const int mask = (1 << bits) - 1;
+    uint h = ((uint)body * 2654435761u) >> (32 - bits);
+    for (int probe = 0; probe <= mask; ++probe) {
         const int old = atomic_cmpxchg(&keys[h], EMPTY_BODY, body);
         if (old == EMPTY_BODY || old == body) return (int)h;
-        h = (h + 1) & (BATCH_TABLE - 1);
+        h = (h + 1) & mask;
     }
-    return 0;  // unreachable: the table has more slots than a window has bodies
+    return 0;  // unreachable (see above)
 }
 
 __kernel __attribute__((reqd_work_group_size(BATCH_WG, 1, 1)))
@@ -52,7 +55,8 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
     __local int winIdx[2][BATCH_WINDOW];  // ping-pong window: constraint index
     __local int winA[2][BATCH_WINDOW];    // its dynamic bodies, or -1
     __local int winB[2][BATCH_WINDOW];
-    __local int slotA[BATCH_WINDOW], slotB[BATCH_WINDOW];
+    __local int winSlotA[2][BATCH_WINDOW];  // their table slots, or -1
+    __local int winSlotB[2][BATCH_WINDOW];
     __local int state[BATCH_WINDOW];
     __local int prio[BATCH_WINDOW];
     __local int owns[BATCH_WINDOW];  // bit 0/1: this entry's offer is the minimum of slot A/B
@@ -60,12 +64,19 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
     __local int tableKey[BATCH_TABLE], tableBest[BATCH_TABLE], tableLocked[BATCH_TABLE];
     __local int laneScheduled[BATCH_WG], laneRest[BATCH_WG];
     __local int totals[2];
+    __local int stillPending[2];  // by round parity: some constraint is pending after the decision
 
     const int lid = get_local_id(0);
     const int gid = get_group_id(0);
     const int offset = groups[gid].offset, count = groups[gid].count;
     const int myBegin = lid * BATCH_PER_LANE;
     int cur = 0, winSize = 0, next = 0, emitted = 0, batch = 0;
+    // The body table: sized for the group (small groups clear small tables) and kept from batch to
+    // batch; rebuilt only when the bodies inserted since the last build could pass half of it.
+    int tableBits = 3;
+    while ((1 << tableBits) < 4 * min(count, BATCH_WINDOW)) ++tableBits;
+    const int tableSize = 1 << tableBits;
+    int tableUsed = 0;
 
     for (;;) {
         // Refill the window's tail from the group, in order.
@@ -80,17 +91,22 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         next += add;
         if (winSize == 0) break;  // uniform: every lane holds the same counters
 
-        for (int h = lid; h < BATCH_TABLE; h += BATCH_WG) {
-            tableKey[h] = EMPTY_BODY;
+        const bool rebuild = batch == 0 || tableUsed + 2 * add > tableSize / 2;
+        for (int h = lid; h < tableSize; h += BATCH_WG) {
+            if (rebuild) tableKey[h] = EMPTY_BODY;
             tableBest[h] = NO_OFFER;
             tableLocked[h] = 0;
         }
         barrier(CLK_LOCAL_MEM_FENCE);
+        const int firstNew = rebuild ? 0 : winSize - add;
+        tableUsed = rebuild ? 2 * winSize : tableUsed + 2 * add;
         const int myEnd = min(winSize, myBegin + BATCH_PER_LANE);
         for (int e = myBegin; e < myEnd; ++e) {
-            const int a = winA[cur][e], b = winB[cur][e];
-            slotA[e] = a >= 0 ? batchTableSlot(tableKey, a) : -1;
-            slotB[e] = b >= 0 ? batchTableSlot(tableKey, b) : -1;
+            if (e >= firstNew) {
+                const int a = winA[cur][e], b = winB[cur][e];
+                winSlotA[cur][e] = a >= 0 ? batchTableSlot(tableKey, tableBits, a) : -1;
+                winSlotB[cur][e] = b >= 0 ? batchTableSlot(tableKey, tableBits, b) : -1;
+            }
             state[e] = ST_PENDING;
             owns[e] = 0;
             prio[e] = btoclBatchPriority(winIdx[cur][e], e, BATCH_WINDOW_BITS);
@@ -98,10 +114,12 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         barrier(CLK_LOCAL_MEM_FENCE);
 
         for (int r = 0; r < rounds; ++r) {
-            // Offer (locks are only read here, offers only atomically lowered).
+            // Offer (locks are only read here, offers only atomically lowered). This round's flag was
+            // last read two barriers ago.
+            if (lid == 0) stillPending[r & 1] = 0;
             for (int e = myBegin; e < myEnd; ++e) {
                 if (state[e] != ST_PENDING) continue;
-                const int sa = slotA[e], sb = slotB[e];
+                const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 if ((sa >= 0 && tableLocked[sa]) || (sb >= 0 && tableLocked[sb])) {
                     state[e] = ST_BLOCKED;
                     continue;
@@ -113,25 +131,28 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
             // Decide (offers only read here).
             for (int e = myBegin; e < myEnd; ++e) {
                 if (state[e] != ST_PENDING) continue;
-                const int sa = slotA[e], sb = slotB[e];
+                const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 const bool wonA = sa < 0 || tableBest[sa] == prio[e];
                 const bool wonB = sb < 0 || tableBest[sb] == prio[e];
                 owns[e] = (sa >= 0 && wonA ? 1 : 0) | (sb >= 0 && wonB ? 2 : 0);
                 if (wonA && wonB) state[e] = ST_SCHEDULED;
+                else atomic_or(&stillPending[r & 1], 1);
             }
             barrier(CLK_LOCAL_MEM_FENCE);
             // Lock the winners' bodies; each slot's minimum holder clears its offer for the next round.
             for (int e = myBegin; e < myEnd; ++e) {
+                const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 const int o = owns[e];
-                if (o & 1) tableBest[slotA[e]] = NO_OFFER;
-                if (o & 2) tableBest[slotB[e]] = NO_OFFER;
+                if (o & 1) tableBest[sa] = NO_OFFER;
+                if (o & 2) tableBest[sb] = NO_OFFER;
                 owns[e] = 0;
                 if (state[e] == ST_SCHEDULED) {
-                    if (slotA[e] >= 0) tableLocked[slotA[e]] = 1;
-                    if (slotB[e] >= 0) tableLocked[slotB[e]] = 1;
+                    if (sa >= 0) tableLocked[sa] = 1;
+                    if (sb >= 0) tableLocked[sb] = 1;
                 }
             }
             barrier(CLK_LOCAL_MEM_FENCE);
+            if (!stillPending[r & 1]) break;  // uniform; further rounds would change nothing
         }
 
         // Output and compaction positions: prefix sums over lanes (lanes own contiguous slices).
@@ -162,6 +183,8 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
                 winIdx[nxt][atR] = winIdx[cur][e];
                 winA[nxt][atR] = winA[cur][e];
                 winB[nxt][atR] = winB[cur][e];
+                winSlotA[nxt][atR] = winSlotA[cur][e];
+                winSlotB[nxt][atR] = winSlotB[cur][e];
                 ++atR;
             }
         }
