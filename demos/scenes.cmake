@@ -9,12 +9,10 @@ target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG)
 
 if(BTOCL_BUILD_TESTS)
   set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid)
-  # One smoke run per scene: small, 20 steps, both solvers side by side.
-  # --allow-ocl-error: until btOpenCLConstraintSolver solves, its side may report an error (the
-  # JSON's "error" field) and the run still passes. Remove the flag once the solver works, so a
-  # solver error fails these tests.
+  # One smoke run per scene: small, 20 steps, both solvers side by side, split and batch
+  # invariants checked every step; an error of our solver fails the test.
   foreach(scene IN LISTS BTOCL_BENCH_SCENES)
-    add_test(NAME bench_smoke_${scene} COMMAND btocl_bench --scene ${scene} --smoke --allow-ocl-error)
+    add_test(NAME bench_smoke_${scene} COMMAND btocl_bench --scene ${scene} --smoke --validate)
     list(APPEND BTOCL_BENCH_TESTS bench_smoke_${scene})
   endforeach()
   # The harness itself: with Bullet's solver on both sides the two worlds must stay identical
@@ -23,7 +21,7 @@ if(BTOCL_BUILD_TESTS)
            COMMAND btocl_bench --scene pile --smoke --stand-in --max-divergence 0)
   # A picture of a frame, through the rasteriser and libpng.
   add_test(NAME bench_png
-           COMMAND btocl_bench --scene pyramid --smoke --frame 10 --allow-ocl-error
+           COMMAND btocl_bench --scene pyramid --smoke --frame 10
                    --png "${CMAKE_CURRENT_BINARY_DIR}/bench_smoke_pyramid.png")
   list(APPEND BTOCL_BENCH_TESTS bench_harness_identical_worlds bench_png)
   set_tests_properties(${BTOCL_BENCH_TESTS} PROPERTIES ENVIRONMENT "BT_OPENCL_DEVICE=cpu")

@@ -8,7 +8,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
-# --allow-ocl-error: while the OpenCL solver is unfinished its side reports its error in the
-# JSON ("error") and the demo still shows Bullet's side. Drop the flag once the solver works.
 exec build/demos/btocl_bench --scene pile --size 1000 --steps 240 --iterations 10 \
-  --png build/demo_pile.png --allow-ocl-error "$@"
+  --png build/demo_pile.png "$@"

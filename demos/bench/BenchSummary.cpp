@@ -52,7 +52,7 @@ JsonValue sideJson(const SolverSide& side, const RunFacts& facts) {
         s["batchesMax"] = st.numBatchesMax;
         s["batchesMean"] = st.numBatchesMean;
         s["overflowConstraints"] = st.numOverflowConstraints;
-        s["validationFailures"] = st.validationFailures;
+        s["validationFailures"] = side.validationFailures;
         if (!st.lastValidationMessage.empty()) s["validationMessage"] = st.lastValidationMessage;
         // getLastStats() of every step: median and 90th percentile of each phase.
         JsonValue medians = JsonValue::object(), p90s = JsonValue::object();

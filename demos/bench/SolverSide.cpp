@@ -54,6 +54,9 @@ void stepSolverSide(SolverSide& side, double dt) {
         const btOpenCLSolverStats& s = side.ocl->getLastStats();
         side.lastStats = s;
         side.lastRows = s.numConstraintRows;
+        if (s.validationFailures > 0 && side.validationFailures == 0)
+            side.firstValidationFailure = "step " + std::to_string(side.stepsDone) + ": " + s.lastValidationMessage;
+        side.validationFailures += s.validationFailures;
         PhaseSamples& p = side.phases;
         p.gather.push_back(s.msGather);
         p.upload.push_back(s.msUpload);

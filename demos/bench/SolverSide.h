@@ -39,6 +39,8 @@ struct SolverSide {
     SolverStepCounts lastCounts;
     int lastRows = 0, maxContactPoints = 0;
     btOpenCLSolverStats lastStats;
+    int validationFailures = 0;         // over all steps (with --validate)
+    std::string firstValidationFailure;
 
     // Quality, tracked over the run.
     btScalar minDistance = 0;               // most negative contact distance seen

@@ -120,6 +120,11 @@ int run(const BenchOptions& options) {
                      options.allowOclError ? " (allowed by --allow-ocl-error)" : "", ours->error.c_str());
         if (!options.allowOclError) status = 1;
     }
+    if (ours && ours->validationFailures > 0) {
+        std::fprintf(stderr, "btocl_bench: %d split/batch invariant failures; first: %s\n", ours->validationFailures,
+                     ours->firstValidationFailure.c_str());
+        status = 4;
+    }
     if (status == 0 && options.maxDivergence >= 0 && facts.divergenceMax > options.maxDivergence) {
         std::fprintf(stderr, "btocl_bench: trajectories parted by %g, more than --max-divergence %g\n",
                      double(facts.divergenceMax), options.maxDivergence);
