@@ -259,3 +259,19 @@ TEST_CASE("bad input is refused with a clear error", "[batching]") {
     CHECK_THROWS_WITH(buildBatchesHost(scene.constraints, scene.bodies, SplitParams{}),
                       Catch::Contains("names body"));
 }
+
+TEST_CASE("the grid caps the cells per axis by enlarging the cell", "[batching]") {
+    const BatchScene longChain = chain(3000);  // contacts from x = 0.5 to 2998.5
+    const BatchLayout layout = runDevice(longChain);
+    CHECK(validateBatchLayout(layout, longChain.constraints) == "");
+    // Unit boxes ask for a cell of 1.1 + 0.05; 2998 m over at most 254 cells needs more.
+    CHECK(layout.cellSize >= 2998.0f / BTOCL_SPLIT_MAX_CELLS);
+    CHECK(layout.cellSize < 2998.0f / (BTOCL_SPLIT_MAX_CELLS - 2));
+    for (const btoclGroup& g : layout.groups) {
+        CHECK(g.cell >= 0);
+        CHECK(g.cell < BTOCL_SPLIT_MAX_CELLS * BTOCL_SPLIT_MAX_CELLS);
+    }
+    // A short chain keeps the cell the boxes ask for.
+    const BatchLayout shortChain = runDevice(chain(50));
+    CHECK(shortChain.cellSize == Approx(1.0f * 1.1f + 0.05f));
+}
