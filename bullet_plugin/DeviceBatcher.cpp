@@ -3,15 +3,14 @@
 #include "btOpenCLConstraintSolver.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <string>
 
 namespace btocl {
 namespace {
 
-constexpr int kSortChunks = 128;      // work-items of the radix passes, each owning a histogram column
-constexpr int kRadixBins = 256;       // SPLIT_RADIX_BINS in split.cl
-constexpr int kScanWorkGroup = 256;   // SPLIT_SCAN_WG in split.cl
+constexpr int kBoundsChunks = 128;   // work-items of the bounding-box reduction
 constexpr int kSummaryInts = BTOCL_NUM_SETS + 4;
 constexpr int kPreferredWindow = 512; // constraints per streamed chunk; big enough that a batch
                                       // of a dense cell is not cut short by the window
@@ -34,15 +33,12 @@ void setArgs(cl::Kernel& kernel, const Args&... args) {
 
 }  // namespace
 
-DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt) {
+DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt), m_prims(rt) {
     // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
     m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
     m_kBounds = rt.makeKernel(m_splitProgram, "splitBounds");
     m_kGridSetup = rt.makeKernel(m_splitProgram, "splitGridSetup");
     m_kKeys = rt.makeKernel(m_splitProgram, "splitKeys");
-    m_kHistogram = rt.makeKernel(m_splitProgram, "splitRadixHistogram");
-    m_kScatter = rt.makeKernel(m_splitProgram, "splitRadixScatter");
-    m_kScan = rt.makeKernel(m_splitProgram, "splitScanExclusive");
     m_kClearBins = rt.makeKernel(m_splitProgram, "splitClearBins");
     m_kMarkBins = rt.makeKernel(m_splitProgram, "splitMarkBins");
     m_kBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
@@ -94,6 +90,7 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
+    const auto start = std::chrono::steady_clock::now();
     BatchProgram& batch = batchProgram(params.workGroupSize);
     const SplitBodiesPlan plan = planSplitBodies(bodies, params);
     m_n = n;
@@ -109,45 +106,29 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     if (m_overflowHost.empty()) m_overflowHost.push_back(0);  // no zero-sized buffers
     cl::Event upload;
     m_overflowBody.write(rt, m_overflowHost.data(), m_overflowHost.size(), &upload);
-    m_partMin.reserve(rt, kSortChunks);
-    m_partMax.reserve(rt, kSortChunks);
+    m_partMin.reserve(rt, kBoundsChunks);
+    m_partMax.reserve(rt, kBoundsChunks);
     m_grid.reserve(rt, 1);
-    for (DeviceBuffer<cl_uint>* b : {&m_keys, &m_keysTmp}) b->reserve(rt, size_t(n));
-    for (DeviceBuffer<int>* b : {&m_sorted, &m_sortedTmp, &m_solveOrder, &m_batchEnd}) b->reserve(rt, size_t(n));
-    m_hist.reserve(rt, size_t(kRadixBins) * kSortChunks);
+    m_keys.reserve(rt, size_t(n));
+    for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(rt, size_t(n));
     for (DeviceBuffer<int>* b : {&m_binStart, &m_binEnd, &m_groupOfBin}) b->reserve(rt, BTOCL_SPLIT_NUM_KEYS);
-    m_total.reserve(rt, 1);
     m_summary.reserve(rt, kSummaryInts);
     m_groups.reserve(rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
 
-    const int chunk = (n + kSortChunks - 1) / kSortChunks;
+    const int chunk = (n + kBoundsChunks - 1) / kBoundsChunks;
     const cl::Buffer& cb = constraints.buffer();
     std::vector<cl::Event>& ev = m_splitEvents;
 
     setArgs(m_kBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
-    enqueue(m_kBounds, kSortChunks, 0, ev, "enqueueing splitBounds");
-    setArgs(m_kGridSetup, m_partMin.buffer(), m_partMax.buffer(), kSortChunks, plan.baseCellSize, m_grid.buffer());
+    enqueue(m_kBounds, kBoundsChunks, 0, ev, "enqueueing splitBounds");
+    setArgs(m_kGridSetup, m_partMin.buffer(), m_partMax.buffer(), kBoundsChunks, plan.baseCellSize, m_grid.buffer());
     enqueue(m_kGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
     setArgs(m_kKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
             m_sorted.buffer());
     enqueue(m_kKeys, size_t(n), 0, ev, "enqueueing splitKeys");
 
-    // Two stable 8-bit radix passes (keys < 2^16): keys -> tmp -> keys.
-    for (int pass = 0; pass < BTOCL_SPLIT_KEY_BITS / 8; ++pass) {
-        const bool even = pass % 2 == 0;
-        const cl::Buffer& kIn = even ? m_keys.buffer() : m_keysTmp.buffer();
-        const cl::Buffer& vIn = even ? m_sorted.buffer() : m_sortedTmp.buffer();
-        const cl::Buffer& kOut = even ? m_keysTmp.buffer() : m_keys.buffer();
-        const cl::Buffer& vOut = even ? m_sortedTmp.buffer() : m_sorted.buffer();
-        const int shift = 8 * pass;
-        setArgs(m_kHistogram, kIn, n, chunk, shift, m_hist.buffer());
-        enqueue(m_kHistogram, kSortChunks, 0, ev, "enqueueing splitRadixHistogram");
-        setArgs(m_kScan, m_hist.buffer(), kRadixBins * kSortChunks, m_total.buffer());
-        enqueue(m_kScan, kScanWorkGroup, kScanWorkGroup, ev, "enqueueing splitScanExclusive");
-        setArgs(m_kScatter, kIn, vIn, n, chunk, shift, m_hist.buffer(), kOut, vOut);
-        enqueue(m_kScatter, kSortChunks, 0, ev, "enqueueing splitRadixScatter");
-    }
-    static_assert(BTOCL_SPLIT_KEY_BITS == 16, "an even number of passes leaves the result in m_keys/m_sorted");
+    // Stable sort by key (kernels/primitives.cl); keys < 2^16 by construction, so no key check.
+    m_prims.sortByKeySmallRange(m_keys.buffer(), m_sorted.buffer(), size_t(n), BTOCL_SPLIT_NUM_KEYS, false);
 
     // Groups: one per non-empty key, numbered by a scan over the key bins.
     setArgs(m_kClearBins, m_binStart.buffer(), m_binEnd.buffer());
@@ -156,19 +137,19 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     enqueue(m_kMarkBins, size_t(n), 0, ev, "enqueueing splitMarkBins");
     setArgs(m_kBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
     enqueue(m_kBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
-    setArgs(m_kScan, m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS, m_total.buffer());
-    enqueue(m_kScan, kScanWorkGroup, kScanWorkGroup, ev, "enqueueing splitScanExclusive");
+    m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
     setArgs(m_kWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_groups.buffer());
     enqueue(m_kWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
-    setArgs(m_kWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_total.buffer(),
-            m_grid.buffer(), m_summary.buffer());
+    setArgs(m_kWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
+            m_summary.buffer());
     enqueue(m_kWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
 
     // The one read-back: the batch launch needs the number of groups.
     int summary[kSummaryInts];
     m_summary.read(rt, summary, kSummaryInts);
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
+    m_stats.msSplit = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     m_stats.numConstraints = n;
     m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
     m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
@@ -190,7 +171,6 @@ const DeviceBatchStats& DeviceBatcher::stats() const {
         sum += g.numBatches;
     }
     m_stats.numBatchesMean = groups.empty() ? 0.0 : double(sum) / double(groups.size());
-    for (const cl::Event& e : m_splitEvents) m_stats.msSplit += eventMs(e);
     for (const cl::Event& e : m_batchEvents) m_stats.msBatch += eventMs(e);
     m_statsReady = true;
     return m_stats;

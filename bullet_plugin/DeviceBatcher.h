@@ -4,6 +4,7 @@
 
 #include "ConstraintBatches.h"
 #include "DeviceBuffer.h"
+#include "DevicePrimitives.h"
 #include "OclRuntime.h"
 
 #include <array>
@@ -19,7 +20,8 @@ struct DeviceBatchStats {
     double numBatchesMean = 0;      // over all groups, overflow included
     int numOverflowConstraints = 0;
     float cellSize = 0;
-    double msSplit = 0, msBatch = 0;  // device time of the kernels (OpenCL event profiling)
+    double msSplit = 0;  // host wall time from build() to the split's read-back (it waits for the device)
+    double msBatch = 0;  // device time of the batch kernel (OpenCL event profiling)
 };
 
 class DeviceBatcher {
@@ -61,15 +63,16 @@ private:
 
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;
-    cl::Kernel m_kBounds, m_kGridSetup, m_kKeys, m_kHistogram, m_kScatter, m_kScan, m_kClearBins, m_kMarkBins,
-        m_kBinFlags, m_kWriteGroups, m_kWriteSummary;
+    DevicePrimitives m_prims;  // the stable sort by cell key and the scan over key bins
+    cl::Kernel m_kBounds, m_kGridSetup, m_kKeys, m_kClearBins, m_kMarkBins, m_kBinFlags, m_kWriteGroups,
+        m_kWriteSummary;
     std::map<int, BatchProgram> m_batchPrograms;
 
     DeviceBuffer<cl_float4> m_partMin, m_partMax;
     DeviceBuffer<btoclSplitGrid> m_grid;
     DeviceBuffer<cl_uchar> m_overflowBody;
-    DeviceBuffer<cl_uint> m_keys, m_keysTmp;
-    DeviceBuffer<int> m_sorted, m_sortedTmp, m_hist, m_binStart, m_binEnd, m_groupOfBin, m_total, m_summary;
+    DeviceBuffer<cl_uint> m_keys;
+    DeviceBuffer<int> m_sorted, m_binStart, m_binEnd, m_groupOfBin, m_summary;
     DeviceBuffer<int> m_solveOrder, m_batchEnd;
     DeviceBuffer<btoclGroup> m_groups;
     std::vector<cl_uchar> m_overflowHost;  // lives until its upload is done

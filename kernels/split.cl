@@ -1,14 +1,9 @@
-// Global split (DESIGN §1): a cell key per constraint, a stable radix sort by key, then the
-// groups (one per non-empty key, set-major) and each set's first group. Deterministic: no
-// atomics; every chunk of the sort owns its own histogram column.
+// Global split (DESIGN §1): a cell key per constraint; the stable sort by key and the scan over
+// key bins are DevicePrimitives' (kernels/primitives.cl); then the groups (one per non-empty key,
+// set-major) and each set's first group. Deterministic: no atomics.
 #include "btOclShared.h"
 #include "split_grid.h"
 
-#define SPLIT_RADIX_BITS 8
-#define SPLIT_RADIX_BINS (1 << SPLIT_RADIX_BITS)
-#ifndef SPLIT_SCAN_WG
-#define SPLIT_SCAN_WG 256
-#endif
 
 // Work-item p: bounds of the positions of constraints [p * chunk, (p + 1) * chunk).
 __kernel void splitBounds(__global const btoclConstraint* constraints, int n, int chunk,
@@ -59,58 +54,6 @@ __kernel void splitKeys(__global const btoclConstraint* constraints, int n, __gl
     indices[i] = i;
 }
 
-// Radix pass, step 1: work-item p counts the digits of its chunk into its own column
-// hist[digit * P + p]; the digit-major exclusive scan of hist then gives stable positions.
-__kernel void splitRadixHistogram(__global const uint* keys, int n, int chunk, int shift, __global int* hist) {
-    const int p = get_global_id(0), P = get_global_size(0);
-    for (int d = 0; d < SPLIT_RADIX_BINS; ++d) hist[d * P + p] = 0;
-    const int begin = min(n, p * chunk), end = min(n, begin + chunk);
-    for (int i = begin; i < end; ++i) ++hist[((keys[i] >> shift) & (SPLIT_RADIX_BINS - 1)) * P + p];
-}
-
-// Radix pass, step 3: work-item p moves its chunk, in order, to the scanned positions.
-__kernel void splitRadixScatter(__global const uint* keysIn, __global const int* valuesIn, int n, int chunk, int shift,
-                                __global int* hist, __global uint* keysOut, __global int* valuesOut) {
-    const int p = get_global_id(0), P = get_global_size(0);
-    const int begin = min(n, p * chunk), end = min(n, begin + chunk);
-    for (int i = begin; i < end; ++i) {
-        const uint k = keysIn[i];
-        const int at = hist[((k >> shift) & (SPLIT_RADIX_BINS - 1)) * P + p]++;
-        keysOut[at] = k;
-        valuesOut[at] = valuesIn[i];
-    }
-}
-
-// In-place exclusive scan of data[0, m) by one work-group; *total = the sum. Each lane scans a
-// contiguous slice; lane 0 scans the slice sums.
-__kernel __attribute__((reqd_work_group_size(SPLIT_SCAN_WG, 1, 1)))
-void splitScanExclusive(__global int* data, int m, __global int* total) {
-    __local int sums[SPLIT_SCAN_WG];
-    const int l = get_local_id(0);
-    const int per = (m + SPLIT_SCAN_WG - 1) / SPLIT_SCAN_WG;
-    const int begin = min(m, l * per), end = min(m, begin + per);
-    int s = 0;
-    for (int i = begin; i < end; ++i) s += data[i];
-    sums[l] = s;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (l == 0) {
-        int run = 0;
-        for (int j = 0; j < SPLIT_SCAN_WG; ++j) {
-            const int t = sums[j];
-            sums[j] = run;
-            run += t;
-        }
-        *total = run;
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    int run = sums[l];
-    for (int i = begin; i < end; ++i) {
-        const int t = data[i];
-        data[i] = run;
-        run += t;
-    }
-}
-
 // Key ranges of the sorted keys: bins start empty (0, 0).
 __kernel void splitClearBins(__global int* binStart, __global int* binEnd) {
     const int b = get_global_id(0);
@@ -145,13 +88,15 @@ __kernel void splitWriteGroups(__global const int* binStart, __global const int*
 }
 
 // One work-item. summary: [0..5] setGroupStart, [6] overflow constraints, [7] the cell edge's bits.
+// The overflow key is the largest key there is, so it closes the count of groups.
 __kernel void splitWriteSummary(__global const int* binStart, __global const int* binEnd,
-                                __global const int* groupOfBin, __global const int* numGroups,
-                                __global const btoclSplitGrid* gridIn, __global int* summary) {
+                                __global const int* groupOfBin, __global const btoclSplitGrid* gridIn,
+                                __global int* summary) {
     if (get_global_id(0) != 0) return;
     const btoclSplitGrid g = *gridIn;
+    const int overflowCount = binEnd[g.overflowKey] - binStart[g.overflowKey];
     for (int s = 0; s <= BTOCL_NUM_SETS; ++s) summary[s] = groupOfBin[s * g.cellsPerSet];
-    summary[BTOCL_NUM_SETS + 1] = *numGroups;
-    summary[BTOCL_NUM_SETS + 2] = binEnd[g.overflowKey] - binStart[g.overflowKey];
+    summary[BTOCL_NUM_SETS + 1] = groupOfBin[g.overflowKey] + (overflowCount > 0 ? 1 : 0);
+    summary[BTOCL_NUM_SETS + 2] = overflowCount;
     summary[BTOCL_NUM_SETS + 3] = as_int(g.cellSize);
 }
