@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -274,4 +275,21 @@ TEST_CASE("the grid caps the cells per axis by enlarging the cell", "[batching]"
     // A short chain keeps the cell the boxes ask for.
     const BatchLayout shortChain = runDevice(chain(50));
     CHECK(shortChain.cellSize == Approx(1.0f * 1.1f + 0.05f));
+}
+
+TEST_CASE("non-finite contact points neither crash nor part device from host", "[batching]") {
+    // The solver rejects such contacts before the split (DESIGN §6); the split must still stay in
+    // bounds: NaN coordinates are left out of the box and go to cell 0; an axis of infinite width
+    // counts as flat, so the grid takes the other two.
+    BatchScene scene = randomPile(300, 31);
+    REQUIRE(scene.constraints.size() > 20);
+    scene.constraints[5].position.x = std::nanf("");
+    scene.constraints[9].position.y = std::nanf("");
+    const int window = fixture().batcher.windowSize(64);
+    requireSameLayout(runDevice(scene), buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
+    scene.constraints[12].position.z = INFINITY;
+    const BatchLayout device = runDevice(scene);
+    requireSameLayout(device, buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
+    CHECK(device.groups.size() > 1);
+    CHECK(validateBatchLayout(device, scene.constraints) == "");
 }
