@@ -92,11 +92,15 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         if (winSize == 0) break;  // uniform: every lane holds the same counters
 
         const bool rebuild = batch == 0 || tableUsed + 2 * add > tableSize / 2;
-        for (int h = lid; h < tableSize; h += BATCH_WG) {
-            if (rebuild) tableKey[h] = EMPTY_BODY;
-            tableBest[h] = NO_OFFER;
-            tableLocked[h] = 0;
-        }
+        // Offers need no clearing between batches: every round ends with each slot's minimum holder
+        // resetting it. Locks are stamped with the batch number, so old ones expire by themselves.
+        if (rebuild)
+            for (int h = lid; h < tableSize; h += BATCH_WG) {
+                tableKey[h] = EMPTY_BODY;
+                tableBest[h] = NO_OFFER;
+                tableLocked[h] = 0;
+            }
+        const int stamp = batch + 1;
         barrier(CLK_LOCAL_MEM_FENCE);
         const int firstNew = rebuild ? 0 : winSize - add;
         tableUsed = rebuild ? 2 * winSize : tableUsed + 2 * add;
@@ -120,7 +124,7 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
             for (int e = myBegin; e < myEnd; ++e) {
                 if (state[e] != ST_PENDING) continue;
                 const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
-                if ((sa >= 0 && tableLocked[sa]) || (sb >= 0 && tableLocked[sb])) {
+                if ((sa >= 0 && tableLocked[sa] == stamp) || (sb >= 0 && tableLocked[sb] == stamp)) {
                     state[e] = ST_BLOCKED;
                     continue;
                 }
@@ -147,8 +151,8 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
                 if (o & 2) tableBest[sb] = NO_OFFER;
                 owns[e] = 0;
                 if (state[e] == ST_SCHEDULED) {
-                    if (sa >= 0) tableLocked[sa] = 1;
-                    if (sb >= 0) tableLocked[sb] = 1;
+                    if (sa >= 0) tableLocked[sa] = stamp;
+                    if (sb >= 0) tableLocked[sb] = stamp;
                 }
             }
             barrier(CLK_LOCAL_MEM_FENCE);
