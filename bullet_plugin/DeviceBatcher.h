@@ -1,5 +1,6 @@
 // Global split and local batch creation on the device (kernels/split.cl, kernels/batch.cl).
-// The output equals buildBatchesHostStreamed(constraints, bodies, params, windowSize()) bit for bit.
+// The output equals buildBatchesHostStreamed(constraints, bodies, params,
+// windowSize(params.workGroupSize)) bit for bit (tests/test_batching.cpp checks it).
 #pragma once
 
 #include "ConstraintBatches.h"
