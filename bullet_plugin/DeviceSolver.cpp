@@ -34,7 +34,11 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_bodies.write(m_rt, p.bodies);
     m_deltas.write(m_rt, p.deltas);
     m_constraints.write(m_rt, p.constraints);
-    m_control.fill(m_rt, 0, BTOCL_CONTROL_SIZE);
+    std::array<int, BTOCL_CONTROL_SIZE> control{};
+    if (!p.rowsOnDevice)  // the setup kernel sets this flag itself
+        for (const btoclRow& r : p.rows)
+            if (r.relpos1CrossNormal.w != 0) control[BTOCL_CONTROL_HAS_PENETRATION] = 1;
+    m_control.write(m_rt, control.data(), control.size());
     if (p.rowsOnDevice)
         m_points.write(m_rt, p.points);
     else
@@ -90,7 +94,8 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_setupRows.setArg(2, m_rowMap.buffer());
     m_setupRows.setArg(3, m_rows.buffer());
     m_setupRows.setArg(4, m_lateralDirs.buffer());
-    m_setupRows.setArg(5, p.setupParams);
+    m_setupRows.setArg(5, m_control.buffer());
+    m_setupRows.setArg(6, p.setupParams);
     launch(m_setupRows, p.points.size(), "launching setupContactRows");
 }
 

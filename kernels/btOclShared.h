@@ -51,6 +51,7 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_CONTROL_ITERATIONS 2      // velocity iterations run
 #define BTOCL_CONTROL_SPLIT_STOPPED 3   // split-impulse iterations converged
 #define BTOCL_CONTROL_SPLIT_RESIDUAL 4
+#define BTOCL_CONTROL_HAS_PENETRATION 5  // some row has a split-impulse share (rhsPenetration != 0)
 #define BTOCL_CONTROL_SIZE 8
 
 // One body as the solver sees it (btSolverBody). Static bodies: invMass 0, inertia 0.

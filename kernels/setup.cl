@@ -99,7 +99,7 @@ void torsionalRow(__global btoclRow* row, float4 axis, const btoclBody* A, const
 // rowMap: where each row (by its index in gather order) lives in the solve-order layout.
 __kernel void setupContactRows(__global const btoclContactPoint* points, __global const btoclBody* bodies,
                                __global const int* rowMap, __global btoclRow* rows, __global float4* lateralDirs,
-                               btoclSetupParams prm) {
+                               __global int* control, btoclSetupParams prm) {
     const int i = get_global_id(0);
     if (i >= prm.numPoints) return;
     const btoclContactPoint pt = points[i];
@@ -171,6 +171,8 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     if (prm.splitImpulse && !(penetration > prm.splitImpulsePenetrationThreshold)) {
         rhs = velocityImpulse;
         rhsPenetration = penetrationImpulse;
+        // Most steps have no point this deep: the split-impulse passes are skipped then.
+        if (rhsPenetration != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PENETRATION, 1);
     }
     const float friction = pt.positionOnB.w;
     const int normalRow = rowMap[i];
