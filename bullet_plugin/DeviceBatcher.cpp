@@ -12,6 +12,7 @@ namespace {
 
 constexpr int kBoundsChunks = 128;   // work-items of the bounding-box reduction
 constexpr int kSummaryInts = BTOCL_NUM_SETS + 4;
+constexpr size_t kLanes = 64;        // local size of the launches whose global size follows n
 constexpr int kPreferredWindow = 512; // constraints per streamed chunk; big enough that a batch
                                       // of a dense cell is not cut short by the window
 
@@ -76,6 +77,11 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
 
 void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t global, size_t local, std::vector<cl::Event>& events,
                             const char* what) {
+    // With a local size the global size is rounded up to a multiple of it (such kernels check
+    // their bounds). Sizes that change from step to step need one: PoCL compiles a kernel
+    // variant for every local size it picks itself, which for a varying global size is a new
+    // compile (~0.1 s) at every new count.
+    if (local) global = (global + local - 1) / local * local;
     cl::Event event;
     checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global),
                                               local ? cl::NDRange(local) : cl::NullRange, nullptr, &event),
@@ -125,7 +131,7 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     enqueue(m_kGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
     setArgs(m_kKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
             m_sorted.buffer());
-    enqueue(m_kKeys, size_t(n), 0, ev, "enqueueing splitKeys");
+    enqueue(m_kKeys, size_t(n), kLanes, ev, "enqueueing splitKeys");
 
     // Stable sort by key (kernels/primitives.cl); keys < 2^16 by construction, so no key check.
     m_prims.sortByKeySmallRange(m_keys.buffer(), m_sorted.buffer(), size_t(n), BTOCL_SPLIT_NUM_KEYS, false);
@@ -134,7 +140,7 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     setArgs(m_kClearBins, m_binStart.buffer(), m_binEnd.buffer());
     enqueue(m_kClearBins, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitClearBins");
     setArgs(m_kMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
-    enqueue(m_kMarkBins, size_t(n), 0, ev, "enqueueing splitMarkBins");
+    enqueue(m_kMarkBins, size_t(n), kLanes, ev, "enqueueing splitMarkBins");
     setArgs(m_kBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
     enqueue(m_kBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);

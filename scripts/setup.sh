@@ -10,6 +10,7 @@ packages=(
   catch2
   libboost-dev
   libpng-dev
+  python3
 )
 
 missing=()
