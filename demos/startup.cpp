@@ -1,5 +1,6 @@
 // Start-up cost: builds every kernels/*.cl program embedded in the library, then constructs a
-// DevicePrimitives (which warms up its kernels) and runs one tiny sort and scan, timing each.
+// DevicePrimitives (which warms up its kernels) and runs one tiny sort and scan, timing each;
+// then, apart, makes a btOpenCLConstraintSolver and times the first two steps of a small world.
 //   startup                 one run in the current PoCL cache; prints JSON
 //   startup --cold-warm     runs itself twice with POCL_CACHE_DIR set to a fresh empty
 //                           directory (cold), then the same directory again (warm)
@@ -9,6 +10,9 @@
 #include "DevicePrimitives.h"
 #include "KernelSources.h"
 #include "OclRuntime.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <btBulletDynamicsCommon.h>
 
 #include <array>
 #include <chrono>
@@ -73,6 +77,36 @@ int runOnce(bool withBoost) {
 
     const double msTotal = msSince(tAll);
 
+    // What a user waits for: the solver made, then the first steps of a small world (PoCL
+    // generates each kernel's code at its first launch), apart from the totals above.
+    t0 = std::chrono::steady_clock::now();
+    btOpenCLConstraintSolver solver;
+    const double msSolver = msSince(t0);
+    btDefaultCollisionConfiguration collisionConfig;
+    btCollisionDispatcher dispatcher(&collisionConfig);
+    btDbvtBroadphase broadphase;
+    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &collisionConfig);
+    btBoxShape ground(btVector3(20, 1, 20)), box(btVector3(0.5f, 0.5f, 0.5f));
+    btRigidBody groundBody(0, nullptr, &ground);
+    groundBody.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, -1, 0)));
+    world.addRigidBody(&groundBody);
+    btVector3 inertia;
+    box.calculateLocalInertia(1, inertia);
+    std::vector<std::unique_ptr<btRigidBody>> boxes;
+    for (int i = 0; i < 10; ++i) {
+        boxes.emplace_back(new btRigidBody(1, nullptr, &box, inertia));
+        boxes.back()->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f + i, 0)));
+        world.addRigidBody(boxes.back().get());
+    }
+    double msSteps[2];
+    for (double& ms : msSteps) {
+        t0 = std::chrono::steady_clock::now();
+        world.stepSimulation(1.f / 60, 0);
+        ms = msSince(t0);
+    }
+    for (auto& b : boxes) world.removeRigidBody(b.get());
+    world.removeRigidBody(&groundBody);
+
     // For comparison, not part of the total: what the Boost.Compute backend costs. Boost.Compute
     // keeps its compiled programs per OpenCL context, in memory only.
     double msBoost[3] = {0, 0, 0};
@@ -92,9 +126,11 @@ int runOnce(bool withBoost) {
     std::printf("{\"device\": \"%s\", \"pocl_cache_dir\": \"%s\",\n"
                 "    \"runtime_ms\": %.1f, \"programs_build_ms\": %.1f, \"programs\": [%s],\n"
                 "    \"device_primitives\": \"%s\", \"device_primitives_construct_ms\": %.1f,"
-                " \"tiny_sort_scan_ms\": %.2f, \"total_ms\": %.1f",
+                " \"tiny_sort_scan_ms\": %.2f, \"total_ms\": %.1f,\n"
+                "    \"solver_construct_ms\": %.1f, \"first_step_ms\": %.1f, \"second_step_ms\": %.1f",
                 rt.deviceName().c_str(), std::getenv("POCL_CACHE_DIR") ? std::getenv("POCL_CACHE_DIR") : "(default)",
-                msRuntime, msPrograms, programs.c_str(), prims.backendName(), msPrimitives, msTiny, msTotal);
+                msRuntime, msPrograms, programs.c_str(), prims.backendName(), msPrimitives, msTiny, msTotal, msSolver,
+                msSteps[0], msSteps[1]);
     if (withBoost)
         std::printf(",\n    \"boost_compute_construct_ms\": {\"first\": %.1f, \"again_same_context\": %.1f,"
                     " \"new_context\": %.1f}",
