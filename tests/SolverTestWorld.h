@@ -1,10 +1,19 @@
 // A small Bullet world for the solver's core tests: ground plus boxes, owned in one place.
 #pragma once
 
+#include "btOpenCLConstraintSolver.h"
+
 #include <btBulletDynamicsCommon.h>
 
 #include <memory>
 #include <vector>
+
+// Our solver as the tests use it: the split and batch invariants checked every step.
+inline std::unique_ptr<btConstraintSolver> makeValidatingSolver() {
+    btOpenCLSolverConfig config;
+    config.validate = true;
+    return std::make_unique<btOpenCLConstraintSolver>(config);
+}
 
 struct SolverTestWorld {
     btDefaultCollisionConfiguration config;

@@ -15,10 +15,9 @@ using namespace btocl;
 
 namespace {
 
-// Settles a pile with SI so that it has contacts, then gathers one step's problem from it.
-StepProblem gatherPileProblem(SolverTestWorld& w, StepProblemBuilder& builder, const btContactSolverInfo& info,
-                              RowSetup setup = RowSetup::Host) {
-    for (int i = 0; i < 30; ++i) w.world->stepSimulation(1.f / 60, 0);
+// One step's problem, gathered from the world's bodies and manifolds as they are.
+StepProblem gatherProblem(SolverTestWorld& w, const btContactSolverInfo& info, RowSetup setup) {
+    StepProblemBuilder builder;
     builder.begin(info, setup);
     btCollisionObjectArray& objects = w.world->getCollisionObjectArray();
     builder.addBodies(&objects[0], objects.size());
@@ -29,6 +28,12 @@ StepProblem gatherPileProblem(SolverTestWorld& w, StepProblemBuilder& builder, c
     StepProblem p = builder.finish();
     builder.releaseBodies();
     return p;
+}
+
+// Settles a pile with SI so that it has contacts, then gathers one step's problem from it.
+StepProblem gatherPileProblem(SolverTestWorld& w, const btContactSolverInfo& info, RowSetup setup = RowSetup::Host) {
+    for (int i = 0; i < 30; ++i) w.world->stepSimulation(1.f / 60, 0);
+    return gatherProblem(w, info, setup);
 }
 
 float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
@@ -44,8 +49,7 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     auto mode = GENERATE(0, 1, 2);
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
-    StepProblemBuilder builder;
-    StepProblem host = gatherPileProblem(w, builder, info);
+    StepProblem host = gatherPileProblem(w, info);
     REQUIRE(host.numContactPoints() > 100);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
@@ -101,21 +105,8 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     if (mode == 3) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
 
-    StepProblemBuilder builder;
-    StepProblem dev = gatherPileProblem(w, builder, info, RowSetup::Device);
-    StepProblem host;
-    {
-        StepProblemBuilder hostBuilder;
-        hostBuilder.begin(info, RowSetup::Host);
-        btCollisionObjectArray& objects = w.world->getCollisionObjectArray();
-        hostBuilder.addBodies(&objects[0], objects.size());
-        btDispatcher* d = w.world->getDispatcher();
-        std::vector<btPersistentManifold*> manifolds;
-        for (int i = 0; i < d->getNumManifolds(); ++i) manifolds.push_back(d->getManifoldByIndexInternal(i));
-        hostBuilder.addManifolds(manifolds.data(), int(manifolds.size()));
-        host = hostBuilder.finish();
-        hostBuilder.releaseBodies();
-    }
+    StepProblem dev = gatherPileProblem(w, info, RowSetup::Device);
+    StepProblem host = gatherProblem(w, info, RowSetup::Host);
     REQUIRE(dev.rowsOnDevice);
     REQUIRE_FALSE(host.rowsOnDevice);
     REQUIRE(dev.numRows() == host.numRows());

@@ -10,14 +10,8 @@
 
 namespace {
 
-std::unique_ptr<btConstraintSolver> makeOurs() {
-    btOpenCLSolverConfig config;
-    config.validate = true;
-    return std::make_unique<btOpenCLConstraintSolver>(config);
-}
-
 std::vector<btTransform> runPile(int boxes, int steps) {
-    SolverTestWorld w(makeOurs());
+    SolverTestWorld w(makeValidatingSolver());
     w.addGround();
     w.addPile(boxes);
     for (int s = 0; s < steps; ++s) w.world->stepSimulation(1.f / 60, 0);
@@ -41,7 +35,7 @@ TEST_CASE("two runs of a 1,000-box pile end bitwise equal", "[determinism]") {
 }
 
 TEST_CASE("a non-finite body velocity is a clear error and the world steps on once it is fixed", "[errors]") {
-    SolverTestWorld w(makeOurs());
+    SolverTestWorld w(makeValidatingSolver());
     w.addGround();
     btRigidBody* box = w.addBox(btVector3(0, 0.5f, 0));
     btRigidBody* other = w.addBox(btVector3(3, 0.5f, 0));

@@ -9,12 +9,6 @@
 
 namespace {
 
-std::unique_ptr<btConstraintSolver> makeOurs() {
-    btOpenCLSolverConfig config;
-    config.validate = true;
-    return std::make_unique<btOpenCLConstraintSolver>(config);
-}
-
 template <class Build>
 float maxPositionGap(Build build, int steps, SolverTestWorld& si, SolverTestWorld& ours) {
     build(si);
@@ -34,7 +28,7 @@ float maxPositionGap(Build build, int steps, SolverTestWorld& si, SolverTestWorl
 
 TEST_CASE("a box dropped on the ground moves as with SI", "[si]") {
     SolverTestWorld si(std::make_unique<btSequentialImpulseConstraintSolver>());
-    SolverTestWorld ours(makeOurs());
+    SolverTestWorld ours(makeValidatingSolver());
     const float gap = maxPositionGap(
         [](SolverTestWorld& w) {
             w.addGround();
@@ -49,7 +43,7 @@ TEST_CASE("a box dropped on the ground moves as with SI", "[si]") {
 
 TEST_CASE("a pile of 64 boxes settles as with SI", "[si]") {
     SolverTestWorld si(std::make_unique<btSequentialImpulseConstraintSolver>());
-    SolverTestWorld ours(makeOurs());
+    SolverTestWorld ours(makeValidatingSolver());
     const float gap = maxPositionGap(
         [](SolverTestWorld& w) {
             w.addGround();
