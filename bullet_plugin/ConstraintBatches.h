@@ -61,7 +61,7 @@ BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std
 
 // Serial host reference: 2x2 checkerboard grid split, then greedy colouring of each group
 // (each constraint goes to the first batch where neither of its dynamic bodies is taken).
-// The oracle of the tests, and the fallback before the device path lands.
+// The oracle of the tests (the quality yardstick of the device batches).
 BatchLayout buildBatchesHost(const std::vector<btoclConstraint>& constraints,
                              const std::vector<SplitBody>& bodies, const SplitParams& params);
 

@@ -6,7 +6,7 @@
 # build/demo_pile.png (SI left, ours right). Extra arguments go to btocl_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh
+bash scripts/setup.sh >&2
+bash scripts/build.sh >&2
 exec build/demos/btocl_bench --scene pile --size 1000 --steps 240 --iterations 10 \
   --png build/demo_pile.png "$@"
