@@ -64,6 +64,8 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_rowBase.reserve(m_rt, size_t(n));
     m_rowMap.reserve(m_rt, size_t(numRows));
     m_rows.reserve(m_rt, size_t(numRows));
+    m_applied.reserve(m_rt, size_t(numRows));
+    m_pushApplied.reserve(m_rt, size_t(numRows));
     if (n == 0) return;
     // Row offsets in solve order: a count per position, then an exclusive scan.
     m_countRows.setArg(0, *layout.solveOrder);
@@ -84,7 +86,9 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
         m_placeRows.setArg(0, m_hostRows.buffer());
         m_placeRows.setArg(1, m_rowMap.buffer());
         m_placeRows.setArg(2, m_rows.buffer());
-        m_placeRows.setArg(3, numRows);
+        m_placeRows.setArg(3, m_applied.buffer());
+        m_placeRows.setArg(4, m_pushApplied.buffer());
+        m_placeRows.setArg(5, numRows);
         launch(m_placeRows, size_t(numRows), "launching placeRows");
         return;
     }
@@ -93,9 +97,11 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_setupRows.setArg(1, m_bodies.buffer());
     m_setupRows.setArg(2, m_rowMap.buffer());
     m_setupRows.setArg(3, m_rows.buffer());
-    m_setupRows.setArg(4, m_lateralDirs.buffer());
-    m_setupRows.setArg(5, m_control.buffer());
-    m_setupRows.setArg(6, p.setupParams);
+    m_setupRows.setArg(4, m_applied.buffer());
+    m_setupRows.setArg(5, m_pushApplied.buffer());
+    m_setupRows.setArg(6, m_lateralDirs.buffer());
+    m_setupRows.setArg(7, m_control.buffer());
+    m_setupRows.setArg(8, p.setupParams);
     launch(m_setupRows, p.points.size(), "launching setupContactRows");
 }
 
@@ -105,10 +111,12 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flag
     k.setArg(2, *layout.batchEnd);
     k.setArg(3, m_placed.buffer());
     k.setArg(4, m_rows.buffer());
-    k.setArg(5, m_bodies.buffer());
-    k.setArg(6, m_deltas.buffer());
-    k.setArg(7, m_control.buffer());
-    k.setArg(8, flags);
+    k.setArg(5, m_applied.buffer());
+    k.setArg(6, m_pushApplied.buffer());
+    k.setArg(7, m_bodies.buffer());
+    k.setArg(8, m_deltas.buffer());
+    k.setArg(9, m_control.buffer());
+    k.setArg(10, flags);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
@@ -151,7 +159,7 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
         m_impulses.reserve(m_rt, size_t(n));
-        m_gatherImpulses.setArg(0, m_rows.buffer());
+        m_gatherImpulses.setArg(0, m_applied.buffer());
         m_gatherImpulses.setArg(1, m_rowMap.buffer());
         m_gatherImpulses.setArg(2, m_impulses.buffer());
         m_gatherImpulses.setArg(3, n);
@@ -170,8 +178,13 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
 
 std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
     const size_t n = size_t(p.numRows());
-    const std::vector<btoclRow> placed = m_rows.read(m_rt, n);
+    std::vector<btoclRow> placed = m_rows.read(m_rt, n);
     const std::vector<int> map = m_rowMap.read(m_rt, n);
+    const std::vector<float> applied = m_applied.read(m_rt, n), pushApplied = m_pushApplied.read(m_rt, n);
+    for (size_t r = 0; r < n; ++r) {  // the live impulses, as a host-built row holds them
+        placed[r].impulses.x = applied[r];
+        placed[r].impulses.y = pushApplied[r];
+    }
     std::vector<int> unmap(n);
     for (size_t r = 0; r < n; ++r) unmap[size_t(map[r])] = int(r);
     std::vector<btoclRow> rows(n);

@@ -33,18 +33,23 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
     placed[i] = c;
 }
 
-// Rows set up on the host, in gather order, to their places.
-__kernel void placeRows(__global const btoclRow* in, __global const int* rowMap, __global btoclRow* out, int n) {
+// Rows set up on the host, in gather order, to their places; their starting impulses to the
+// compact arrays that the solve updates.
+__kernel void placeRows(__global const btoclRow* in, __global const int* rowMap, __global btoclRow* out,
+                        __global float* applied, __global float* pushApplied, int n) {
     const int r = get_global_id(0);
     if (r >= n) return;
     btoclRow row = in[r];
     if (row.frictionIndex >= 0) row.frictionIndex = rowMap[row.frictionIndex];
-    out[rowMap[r]] = row;
+    const int to = rowMap[r];
+    out[to] = row;
+    applied[to] = row.impulses.x;
+    pushApplied[to] = row.impulses.y;
 }
 
 // The applied impulse of rows [0, n) in gather order, for the write-back to the manifold points.
-__kernel void gatherAppliedImpulses(__global const btoclRow* rows, __global const int* rowMap, __global float* out,
+__kernel void gatherAppliedImpulses(__global const float* applied, __global const int* rowMap, __global float* out,
                                     int n) {
     const int r = get_global_id(0);
-    if (r < n) out[r] = rows[rowMap[r]].impulses.x;
+    if (r < n) out[r] = applied[rowMap[r]];
 }

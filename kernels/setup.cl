@@ -35,9 +35,12 @@ inline void planeSpace(float4 n, float4* p, float4* q) {
     }
 }
 
-inline void storeRow(__global btoclRow* row, float4 n1, float4 rp1, float4 n2, float4 rp2, float4 angA, float4 angB,
+// Row `index` of the solve-order layout, and its starting impulses in the compact arrays.
+inline void storeRow(__global btoclRow* rows, __global float* appliedImpulses, __global float* pushImpulses, int index,
+                     float4 n1, float4 rp1, float4 n2, float4 rp2, float4 angA, float4 angB,
                      float rhs, float rhsPenetration, float cfm, float jacDiagABInv, float lower, float upper,
                      float applied, float friction, int bodyA, int bodyB, int frictionIndex) {
+    __global btoclRow* row = rows + index;
     row->contactNormal1 = (float4)(n1.xyz, rhs);
     row->relpos1CrossNormal = (float4)(rp1.xyz, rhsPenetration);
     row->contactNormal2 = (float4)(n2.xyz, cfm);
@@ -45,6 +48,8 @@ inline void storeRow(__global btoclRow* row, float4 n1, float4 rp1, float4 n2, f
     row->angularComponentA = (float4)(angA.xyz, lower);
     row->angularComponentB = (float4)(angB.xyz, upper);
     row->impulses = (float4)(applied, 0.0f, friction, 0.0f);
+    appliedImpulses[index] = applied;
+    pushImpulses[index] = 0.0f;
     row->bodyA = bodyA;
     row->bodyB = bodyB;
     row->frictionIndex = frictionIndex;
@@ -52,7 +57,7 @@ inline void storeRow(__global btoclRow* row, float4 n1, float4 rp1, float4 n2, f
 }
 
 // setupFrictionConstraint
-void frictionRow(__global btoclRow* row, float4 axis, const btoclBody* A, const btoclBody* B, int hasA, int hasB,
+void frictionRow(__global btoclRow* rows, __global float* applied, __global float* pushApplied, int index, float4 axis, const btoclBody* A, const btoclBody* B, int hasA, int hasB,
                  float4 relPos1, float4 relPos2, const btoclContactPoint* pt, btoclSetupParams prm,
                  float desiredVelocity, float cfmSlip, int pointIndex) {
     const float4 zero = (float4)(0.0f);
@@ -76,12 +81,12 @@ void frictionRow(__global btoclRow* row, float4 axis, const btoclBody* A, const 
         penetrationImpulse = (-distance * prm.frictionERP / prm.timeStep) * jac;
     }
     const float friction = pt->positionOnB.w;
-    storeRow(row, n1, rp1, n2, rp2, angA, angB, penetrationImpulse + velocityImpulse, 0.0f, cfmSlip, jac, -friction,
+    storeRow(rows, applied, pushApplied, index, n1, rp1, n2, rp2, angA, angB, penetrationImpulse + velocityImpulse, 0.0f, cfmSlip, jac, -friction,
              friction, 0.0f, friction, pt->bodyA, pt->bodyB, pointIndex);
 }
 
 // setupTorsionalFrictionConstraint
-void torsionalRow(__global btoclRow* row, float4 axis, const btoclBody* A, const btoclBody* B, int hasA, int hasB,
+void torsionalRow(__global btoclRow* rows, __global float* applied, __global float* pushApplied, int index, float4 axis, const btoclBody* A, const btoclBody* B, int hasA, int hasB,
                   float friction, int bodyA, int bodyB, int pointIndex) {
     const float4 zero = (float4)(0.0f);
     const float4 rp1 = -axis;
@@ -92,14 +97,15 @@ void torsionalRow(__global btoclRow* row, float4 axis, const btoclBody* A, const
     const float4 iB = hasB ? inertiaTimes(B, rp2) : zero;
     const float jac = 1.0f / (dot3s(iA, rp1) + dot3s(iB, rp2));
     const float relVel = dot3s(rp1, hasA ? A->angularVelocity : zero) + dot3s(rp2, hasB ? B->angularVelocity : zero);
-    storeRow(row, zero, rp1, zero, rp2, angA, angB, -relVel * jac, 0.0f, 0.0f, jac, -friction, friction, 0.0f,
+    storeRow(rows, applied, pushApplied, index, zero, rp1, zero, rp2, angA, angB, -relVel * jac, 0.0f, 0.0f, jac, -friction, friction, 0.0f,
              friction, bodyA, bodyB, pointIndex);
 }
 
 // rowMap: where each row (by its index in gather order) lives in the solve-order layout.
 __kernel void setupContactRows(__global const btoclContactPoint* points, __global const btoclBody* bodies,
-                               __global const int* rowMap, __global btoclRow* rows, __global float4* lateralDirs,
-                               __global int* control, btoclSetupParams prm) {
+                               __global const int* rowMap, __global btoclRow* rows, __global float* applied,
+                               __global float* pushApplied, __global float4* lateralDirs, __global int* control,
+                               btoclSetupParams prm) {
     const int i = get_global_id(0);
     if (i >= prm.numPoints) return;
     const btoclContactPoint pt = points[i];
@@ -154,7 +160,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         if (fabs(rv) >= prm.restitutionVelocityThreshold) restitution = pt.normalOnB.w * -rv;
         if (restitution <= 0.0f) restitution = 0.0f;
     }
-    const float applied = (prm.solverMode & BTOCL_SOLVER_USE_WARMSTARTING) ? pt.impulseFriction.x * prm.warmstartingFactor : 0.0f;
+    const float warmStart = (prm.solverMode & BTOCL_SOLVER_USE_WARMSTARTING) ? pt.impulseFriction.x * prm.warmstartingFactor : 0.0f;
     const float vel1Dotn = dot3s(n1, A.linearVelocity + (hasA ? A.externalForceImpulse : zero)) +
                            dot3s(rp1, A.angularVelocity + (hasA ? A.externalTorqueImpulse : zero));
     const float vel2Dotn = dot3s(n2, B.linearVelocity + (hasB ? B.externalForceImpulse : zero)) +
@@ -176,7 +182,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     }
     const float friction = pt.positionOnB.w;
     const int normalRow = rowMap[i];
-    storeRow(rows + normalRow, n1, rp1, n2, rp2, angA, angB, rhs, rhsPenetration, cfm * jac, jac, 0.0f, 1e10f, applied,
+    storeRow(rows, applied, pushApplied, normalRow, n1, rp1, n2, rp2, angA, angB, rhs, rhsPenetration, cfm * jac, jac, 0.0f, 1e10f, warmStart,
              friction, pt.bodyA, pt.bodyB, -1);
 
     // --- rolling and spinning friction ---
@@ -185,11 +191,11 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         planeSpace(n, &axis0, &axis1);
         axis0 = normalize(axis0);
         axis1 = normalize(axis1);
-        torsionalRow(rows + rowMap[pt.firstRollingRow], n, &A, &B, hasA, hasB, pt.impulseFriction.z, pt.bodyA, pt.bodyB,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow], n, &A, &B, hasA, hasB, pt.impulseFriction.z, pt.bodyA, pt.bodyB,
                      normalRow);
-        torsionalRow(rows + rowMap[pt.firstRollingRow + 1], axis0, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 1], axis0, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
                      pt.bodyB, normalRow);
-        torsionalRow(rows + rowMap[pt.firstRollingRow + 2], axis1, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 2], axis1, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
                      pt.bodyB, normalRow);
     }
 
@@ -214,9 +220,9 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         motion2 = pt.lateralDir2.w;
         cfmSlip = pt.impulseFriction.w;
     }
-    frictionRow(rows + rowMap[pt.firstFrictionRow], dir1, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion1,
+    frictionRow(rows, applied, pushApplied, rowMap[pt.firstFrictionRow], dir1, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion1,
                 cfmSlip, normalRow);
     if (two)
-        frictionRow(rows + rowMap[pt.firstFrictionRow + 1], dir2, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm,
+        frictionRow(rows, applied, pushApplied, rowMap[pt.firstFrictionRow + 1], dir2, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm,
                     motion2, cfmSlip, normalRow);
 }

@@ -26,16 +26,18 @@ inline void applyImpulse(__global btoclBodyDelta* d, __global const btoclBody* b
     }
 }
 
-// One row, clamped to [lower, upper]; returns the residual as SI reports it.
-inline float solveRow(__global btoclRow* row, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
-               float lower, float upper, int applyFactors, int push) {
+// One row, clamped to [lower, upper]; returns the residual as SI reports it. The row is read
+// only: its applied impulse lives in a compact array, so a pass writes 4 bytes per row, not a
+// cache line.
+inline float solveRow(__global const btoclRow* row, __global float* appliedImpulse, __global const btoclBody* bodies,
+                      __global btoclBodyDelta* deltas, float lower, float upper, int applyFactors, int push) {
     __global btoclBodyDelta* dA = deltas + row->bodyA;
     __global btoclBodyDelta* dB = deltas + row->bodyB;
     __global const btoclBody* bA = bodies + row->bodyA;
     __global const btoclBody* bB = bodies + row->bodyB;
     const float jacDiagABInv = row->relpos2CrossNormal.w;
     const float cfm = row->contactNormal2.w;
-    const float applied = push ? row->impulses.y : row->impulses.x;
+    const float applied = *appliedImpulse;
     const float rhs = push ? row->relpos1CrossNormal.w : row->contactNormal1.w;
     float deltaImpulse = rhs - applied * cfm;
     const float4 vA0 = push ? dA->pushVelocity : dA->deltaLinearVelocity;
@@ -55,29 +57,27 @@ inline float solveRow(__global btoclRow* row, __global const btoclBody* bodies, 
         deltaImpulse = upper - applied;
         newApplied = upper;
     }
-    if (push)
-        row->impulses.y = newApplied;
-    else
-        row->impulses.x = newApplied;
+    *appliedImpulse = newApplied;
     applyImpulse(dA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, deltaImpulse, applyFactors, push);
     applyImpulse(dB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, deltaImpulse, applyFactors, push);
     return deltaImpulse * (1.0f / jacDiagABInv);
 }
 
 // The rows of one constraint for one pass; returns the largest squared residual.
-inline float solveConstraintPass(__global const btoclConstraint* c, __global btoclRow* rows,
-                          __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass,
-                          int applyFactors) {
+inline float solveConstraintPass(__global const btoclConstraint* c, __global const btoclRow* rows,
+                                 __global float* applied, __global float* pushApplied,
+                                 __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass,
+                                 int applyFactors) {
     float maxResidual2 = 0.0f;
     if (pass == BTOCL_PASS_WARMSTART) {
         // SI applies each normal row's starting impulse to both bodies as it sets the row up.
         for (int r = c->firstRow[BTOCL_PASS_NORMAL]; r < c->firstRow[BTOCL_PASS_NORMAL] + c->numRows[BTOCL_PASS_NORMAL]; ++r) {
             __global const btoclRow* row = rows + r;
-            const float applied = row->impulses.x;
+            const float start = applied[r];
             __global const btoclBody* bA = bodies + row->bodyA;
             __global const btoclBody* bB = bodies + row->bodyB;
-            applyImpulse(deltas + row->bodyA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, applied, 1, 0);
-            applyImpulse(deltas + row->bodyB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, applied, 1, 0);
+            applyImpulse(deltas + row->bodyA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, start, 1, 0);
+            applyImpulse(deltas + row->bodyB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, start, 1, 0);
         }
         return 0.0f;
     }
@@ -85,19 +85,19 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global bto
     const int first = c->firstRow[rowPass];
     const int end = first + c->numRows[rowPass];
     for (int r = first; r < end; ++r) {
-        __global btoclRow* row = rows + r;
+        __global const btoclRow* row = rows + r;
         float residual = 0.0f;
         if (pass == BTOCL_PASS_NORMAL) {
-            residual = solveRow(row, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 0);
+            residual = solveRow(row, applied + r, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 0);
         } else if (pass == BTOCL_PASS_PENETRATION) {
             if (row->relpos1CrossNormal.w == 0.0f) continue;  // no split-impulse share
-            residual = solveRow(row, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 1);
+            residual = solveRow(row, pushApplied + r, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 1);
         } else {
-            const float total = rows[row->frictionIndex].impulses.x;
+            const float total = applied[row->frictionIndex];
             if (!(total > 0.0f)) continue;
             float limit = row->impulses.z * total;
             if (pass == BTOCL_PASS_ROLLING && limit > row->impulses.z) limit = row->impulses.z;
-            residual = solveRow(row, bodies, deltas, -limit, limit, applyFactors, 0);
+            residual = solveRow(row, applied + r, bodies, deltas, -limit, limit, applyFactors, 0);
         }
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
@@ -108,8 +108,9 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global bto
 // constraints are in solve order already (kernels/arrange.cl): position i holds the i-th.
 inline void solveSet(__global const btoclGroup* groups, int groupBase,
                      __global const int* batchEnd, __global const btoclConstraint* constraints,
-                     __global btoclRow* rows, __global const btoclBody* bodies,
-                     __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags) {
+                     __global const btoclRow* rows, __global float* applied, __global float* pushApplied,
+                     __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
+                     const int pass, int flags) {
     const int stopSlot = pass == BTOCL_PASS_PENETRATION ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED;
     if (control[stopSlot]) return;  // the same for every work-item: converged in an earlier iteration
     // No row has a split-impulse share: the pass would change nothing (rows without one are skipped).
@@ -124,7 +125,8 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase,
         const int end = batchEnd[g.offset + k];
         for (int i = start + lane; i < end; i += lanes)
             maxResidual2 = fmax(maxResidual2,
-                                solveConstraintPass(constraints + i, rows, bodies, deltas, pass, applyFactors));
+                                solveConstraintPass(constraints + i, rows, applied, pushApplied, bodies, deltas, pass,
+                                                    applyFactors));
         barrier(CLK_GLOBAL_MEM_FENCE);  // the next batch reads what this one wrote
         start = end;
     }
@@ -138,9 +140,11 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase,
 #define BTOCL_SOLVE_KERNEL(name, PASS)                                                                          \
     __kernel void name(__global const btoclGroup* groups, int groupBase,                                      \
                        __global const int* batchEnd, __global const btoclConstraint* constraints,             \
-                       __global btoclRow* rows, __global const btoclBody* bodies,                             \
-                       __global btoclBodyDelta* deltas, __global int* control, int flags) {                   \
-        solveSet(groups, groupBase, batchEnd, constraints, rows, bodies, deltas, control, PASS, flags);         \
+                       __global const btoclRow* rows, __global float* applied, __global float* pushApplied,   \
+                       __global const btoclBody* bodies, __global btoclBodyDelta* deltas,                     \
+                       __global int* control, int flags) {                                                    \
+        solveSet(groups, groupBase, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas, control,  \
+                 PASS, flags);                                                                                \
     }
 BTOCL_SOLVE_KERNEL(solveNormalRows, BTOCL_PASS_NORMAL)
 BTOCL_SOLVE_KERNEL(solveFrictionRows, BTOCL_PASS_FRICTION)
