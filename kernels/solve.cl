@@ -7,45 +7,60 @@
 
 inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-// Adds an impulse to a body's velocity change (or push/turn velocity for split impulse).
-inline void applyImpulse(__global btoclBodyDelta* d, __global const btoclBody* b, float4 linear, float4 angular,
-                         float impulse, int applyFactors, int push) {
-    if (b->invMass.w == 0.0f) return;  // static and kinematic bodies never change
+// A body's part in one constraint: read once, updated by each of the constraint's rows (they all
+// act on the same two bodies), written back once.
+typedef struct {
+    float4 invMass;        // xyz: inverse mass times linear factor; w: 1 if dynamic
+    float4 linearFactor, angularFactor;
+    float4 linear, angular;  // velocity change, or push and turn velocity in the split-impulse pass
+} SolveBody;
+
+inline SolveBody loadBody(__global const btoclBody* b, __global const btoclBodyDelta* d, int push) {
+    SolveBody s;
+    s.invMass = b->invMass;
+    s.linearFactor = b->linearFactor;
+    s.angularFactor = b->angularFactor;
+    s.linear = push ? d->pushVelocity : d->deltaLinearVelocity;
+    s.angular = push ? d->turnVelocity : d->deltaAngularVelocity;
+    return s;
+}
+
+inline void storeBody(const SolveBody* s, __global btoclBodyDelta* d, int push) {
+    if (s->invMass.w == 0.0f) return;  // static and kinematic bodies never change
+    if (push) {
+        d->pushVelocity = s->linear;
+        d->turnVelocity = s->angular;
+    } else {
+        d->deltaLinearVelocity = s->linear;
+        d->deltaAngularVelocity = s->angular;
+    }
+}
+
+// Adds an impulse to a body's velocity change (btSolverBody::internalApplyImpulse).
+inline void applyImpulse(SolveBody* s, float4 linear, float4 angular, float impulse, int applyFactors) {
+    if (s->invMass.w == 0.0f) return;
     float4 dl = linear * impulse;
     float4 da = angular * impulse;
     if (applyFactors) {
-        dl *= b->linearFactor;
-        da *= b->angularFactor;
+        dl *= s->linearFactor;
+        da *= s->angularFactor;
     }
-    if (push) {
-        d->pushVelocity.xyz += dl.xyz;
-        d->turnVelocity.xyz += da.xyz;
-    } else {
-        d->deltaLinearVelocity.xyz += dl.xyz;
-        d->deltaAngularVelocity.xyz += da.xyz;
-    }
+    s->linear.xyz += dl.xyz;
+    s->angular.xyz += da.xyz;
 }
 
 // One row, clamped to [lower, upper]; returns the residual as SI reports it. The row is read
 // only: its applied impulse lives in a compact array, so a pass writes 4 bytes per row, not a
 // cache line.
-inline float solveRow(__global const btoclRow* row, __global float* appliedImpulse, __global const btoclBody* bodies,
-                      __global btoclBodyDelta* deltas, float lower, float upper, int applyFactors, int push) {
-    __global btoclBodyDelta* dA = deltas + row->bodyA;
-    __global btoclBodyDelta* dB = deltas + row->bodyB;
-    __global const btoclBody* bA = bodies + row->bodyA;
-    __global const btoclBody* bB = bodies + row->bodyB;
+inline float solveRow(__global const btoclRow* row, __global float* appliedImpulse, SolveBody* A, SolveBody* B,
+                      float lower, float upper, int applyFactors, int push) {
     const float jacDiagABInv = row->relpos2CrossNormal.w;
     const float cfm = row->contactNormal2.w;
     const float applied = *appliedImpulse;
     const float rhs = push ? row->relpos1CrossNormal.w : row->contactNormal1.w;
     float deltaImpulse = rhs - applied * cfm;
-    const float4 vA0 = push ? dA->pushVelocity : dA->deltaLinearVelocity;
-    const float4 wA0 = push ? dA->turnVelocity : dA->deltaAngularVelocity;
-    const float4 vB0 = push ? dB->pushVelocity : dB->deltaLinearVelocity;
-    const float4 wB0 = push ? dB->turnVelocity : dB->deltaAngularVelocity;
-    const float deltaVel1Dotn = dot3(row->contactNormal1, vA0) + dot3(row->relpos1CrossNormal, wA0);
-    const float deltaVel2Dotn = dot3(row->contactNormal2, vB0) + dot3(row->relpos2CrossNormal, wB0);
+    const float deltaVel1Dotn = dot3(row->contactNormal1, A->linear) + dot3(row->relpos1CrossNormal, A->angular);
+    const float deltaVel2Dotn = dot3(row->contactNormal2, B->linear) + dot3(row->relpos2CrossNormal, B->angular);
     deltaImpulse -= deltaVel1Dotn * jacDiagABInv;
     deltaImpulse -= deltaVel2Dotn * jacDiagABInv;
     const float sum = applied + deltaImpulse;
@@ -58,8 +73,8 @@ inline float solveRow(__global const btoclRow* row, __global float* appliedImpul
         newApplied = upper;
     }
     *appliedImpulse = newApplied;
-    applyImpulse(dA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, deltaImpulse, applyFactors, push);
-    applyImpulse(dB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, deltaImpulse, applyFactors, push);
+    applyImpulse(A, row->contactNormal1 * A->invMass, row->angularComponentA, deltaImpulse, applyFactors);
+    applyImpulse(B, row->contactNormal2 * B->invMass, row->angularComponentB, deltaImpulse, applyFactors);
     return deltaImpulse * (1.0f / jacDiagABInv);
 }
 
@@ -68,39 +83,38 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global con
                                  __global float* applied, __global float* pushApplied,
                                  __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass,
                                  int applyFactors) {
+    const int push = pass == BTOCL_PASS_PENETRATION;
+    SolveBody A = loadBody(bodies + c->bodyA, deltas + c->bodyA, push);
+    SolveBody B = loadBody(bodies + c->bodyB, deltas + c->bodyB, push);
     float maxResidual2 = 0.0f;
-    if (pass == BTOCL_PASS_WARMSTART) {
-        // SI applies each normal row's starting impulse to both bodies as it sets the row up.
-        for (int r = c->firstRow[BTOCL_PASS_NORMAL]; r < c->firstRow[BTOCL_PASS_NORMAL] + c->numRows[BTOCL_PASS_NORMAL]; ++r) {
-            __global const btoclRow* row = rows + r;
-            const float start = applied[r];
-            __global const btoclBody* bA = bodies + row->bodyA;
-            __global const btoclBody* bB = bodies + row->bodyB;
-            applyImpulse(deltas + row->bodyA, bA, row->contactNormal1 * bA->invMass, row->angularComponentA, start, 1, 0);
-            applyImpulse(deltas + row->bodyB, bB, row->contactNormal2 * bB->invMass, row->angularComponentB, start, 1, 0);
-        }
-        return 0.0f;
-    }
-    const int rowPass = pass == BTOCL_PASS_PENETRATION ? BTOCL_PASS_NORMAL : pass;
+    const int rowPass = (pass == BTOCL_PASS_PENETRATION || pass == BTOCL_PASS_WARMSTART) ? BTOCL_PASS_NORMAL : pass;
     const int first = c->firstRow[rowPass];
     const int end = first + c->numRows[rowPass];
     for (int r = first; r < end; ++r) {
         __global const btoclRow* row = rows + r;
         float residual = 0.0f;
-        if (pass == BTOCL_PASS_NORMAL) {
-            residual = solveRow(row, applied + r, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 0);
+        if (pass == BTOCL_PASS_WARMSTART) {
+            // SI applies each normal row's starting impulse to both bodies as it sets the row up.
+            const float start = applied[r];
+            applyImpulse(&A, row->contactNormal1 * A.invMass, row->angularComponentA, start, 1);
+            applyImpulse(&B, row->contactNormal2 * B.invMass, row->angularComponentB, start, 1);
+            continue;
+        } else if (pass == BTOCL_PASS_NORMAL) {
+            residual = solveRow(row, applied + r, &A, &B, row->angularComponentA.w, FLT_MAX, applyFactors, 0);
         } else if (pass == BTOCL_PASS_PENETRATION) {
             if (row->relpos1CrossNormal.w == 0.0f) continue;  // no split-impulse share
-            residual = solveRow(row, pushApplied + r, bodies, deltas, row->angularComponentA.w, FLT_MAX, applyFactors, 1);
+            residual = solveRow(row, pushApplied + r, &A, &B, row->angularComponentA.w, FLT_MAX, applyFactors, 1);
         } else {
             const float total = applied[row->frictionIndex];
             if (!(total > 0.0f)) continue;
             float limit = row->impulses.z * total;
             if (pass == BTOCL_PASS_ROLLING && limit > row->impulses.z) limit = row->impulses.z;
-            residual = solveRow(row, applied + r, bodies, deltas, -limit, limit, applyFactors, 0);
+            residual = solveRow(row, applied + r, &A, &B, -limit, limit, applyFactors, 0);
         }
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
+    storeBody(&A, deltas + c->bodyA, push);
+    storeBody(&B, deltas + c->bodyB, push);
     return maxResidual2;
 }
 
