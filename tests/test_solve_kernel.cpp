@@ -140,7 +140,7 @@ void requireDeviceSetupAsHost(SolverTestWorld& w, const btContactSolverInfo& inf
 }
 
 TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
-    auto mode = GENERATE(0, 1, 2, 3);
+    auto mode = GENERATE(0, 1, 2, 3, 4, 5);
     CAPTURE(mode);
     SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
     w.addGround();
@@ -156,7 +156,40 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     if (mode == 3) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
+    if (mode == 4) {  // relaxation and global CFM
+        info.m_sor = 0.9f;
+        info.m_globalCfm = 0.001f;
+    }
     for (int i = 0; i < 30; ++i) w.world->stepSimulation(1.f / 60, 0);
+    if (mode == 5) {
+        // Per-point options: contact CFM/ERP, stiffness and damping, friction anchors, and cached
+        // friction directions with a conveyor-belt motion.
+        info.m_solverMode |= SOLVER_ENABLE_FRICTION_DIRECTION_CACHING | SOLVER_USE_2_FRICTION_DIRECTIONS;
+        int k = 0;
+        for (int i = 0; i < w.dispatcher.getNumManifolds(); ++i) {
+            btPersistentManifold* m = w.dispatcher.getManifoldByIndexInternal(i);
+            for (int j = 0; j < m->getNumContacts(); ++j, ++k) {
+                btManifoldPoint& cp = m->getContactPoint(j);
+                switch (k % 5) {
+                    case 0: cp.m_contactPointFlags |= BT_CONTACT_FLAG_HAS_CONTACT_CFM; cp.m_contactCFM = 0.01f; break;
+                    case 1: cp.m_contactPointFlags |= BT_CONTACT_FLAG_HAS_CONTACT_ERP; cp.m_contactERP = 0.4f; break;
+                    case 2:
+                        cp.m_contactPointFlags |= BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING;
+                        cp.m_combinedContactStiffness1 = 1e4f;
+                        cp.m_combinedContactDamping1 = 50;
+                        break;
+                    case 3: cp.m_contactPointFlags |= BT_CONTACT_FLAG_FRICTION_ANCHOR; break;
+                    default:
+                        cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+                        cp.m_lateralFrictionDir1 = btVector3(1, 0, 0);
+                        cp.m_lateralFrictionDir2 = btVector3(0, 0, 1);
+                        cp.m_contactMotion1 = 0.3f;
+                        cp.m_frictionCFM = 0.02f;
+                        break;
+                }
+            }
+        }
+    }
     requireDeviceSetupAsHost(w, info);
 }
 
@@ -177,4 +210,33 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
     requireDeviceSetupAsHost(w, info);
+}
+
+TEST_CASE("a residual threshold stops the device iterations where the host reference stops", "[solve]") {
+    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
+    w.addGround();
+    w.addPile(64);
+    btContactSolverInfo info = w.world->getSolverInfo();
+    info.m_timeStep = 1.f / 60;
+    info.m_numIterations = 50;
+    info.m_leastSquaresResidualThreshold = 1e-3f;  // reached after about a dozen iterations
+    StepProblem host = gatherPileProblem(w, info);
+    StepProblem dev = host;
+    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
+    const SolveSettings settings = SolveSettings::from(info);
+    REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
+    const int hostIterations = solveOnHost(host, layout, settings);
+    OclRuntime rt("");
+    DeviceSolver solver(rt, 64);
+    solver.upload(dev);
+    const DeviceLayoutView view = solver.uploadLayout(layout);
+    solver.arrange(dev, view);
+    solver.iterate(dev, view, settings);
+    const int deviceIterations = solver.download(dev, settings);
+    INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
+    // The threshold is reached before the cap, and at the same iteration: the device computes
+    // SI's residual (impulse change over the row's effective mass) as the host does; a rounding
+    // difference near the threshold could move the stop by one iteration.
+    CHECK(hostIterations < info.m_numIterations);
+    CHECK(std::abs(deviceIterations - hostIterations) <= 1);
 }
