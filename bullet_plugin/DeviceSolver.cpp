@@ -7,9 +7,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
     // batches is a pass over all of them: there one lane per group walks the batches in order.
     : m_rt(runtime), m_workGroupSize(runtime.isCpu() ? 1 : workGroupSize), m_primitives(runtime) {
     m_solveProgram = m_rt.buildProgramFile("solve.cl");
-    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
-    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
-    m_passKernels[BTOCL_PASS_ROLLING] = m_rt.makeKernel(m_solveProgram, "solveRollingRows");
+    m_passKernels[BTOCL_PASS_VELOCITY] = m_rt.makeKernel(m_solveProgram, "solveVelocityRows");
     m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
@@ -146,9 +144,7 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
             endIteration(1);
         }
     for (int it = 0; it < s.numIterations; ++it) {
-        launchPass(layout, BTOCL_PASS_NORMAL, s.flags);
-        if (p.numFrictionRows > 0) launchPass(layout, BTOCL_PASS_FRICTION, s.flags);
-        if (p.numRollingRows > 0) launchPass(layout, BTOCL_PASS_ROLLING, s.flags);
+        launchPass(layout, BTOCL_PASS_VELOCITY, s.flags);
         endIteration(0);
     }
 }

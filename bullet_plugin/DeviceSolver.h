@@ -52,7 +52,7 @@ private:
     int m_workGroupSize;
     DevicePrimitives m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
-    std::array<cl::Kernel, 6> m_passKernels;  // by BTOCL_PASS_*
+    std::array<cl::Kernel, 7> m_passKernels;  // by BTOCL_PASS_* (penetration, warm start, velocity)
     cl::Kernel m_endIteration, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;

@@ -61,25 +61,38 @@ struct RowSolver {
         return deltaImpulse * (1.0f / jacDiagABInv);
     }
 
+    float frictionRows(const btoclConstraint& c, int kind) {
+        float maxResidual2 = 0;
+        for (int i = c.firstRow[kind]; i < c.firstRow[kind] + c.numRows[kind]; ++i) {
+            btoclRow& r = p.rows[size_t(i)];
+            const float total = p.rows[size_t(r.frictionIndex)].impulses.x;
+            if (!(total > 0)) continue;
+            float limit = r.impulses.z * total;
+            if (kind == BTOCL_PASS_ROLLING && limit > r.impulses.z) limit = r.impulses.z;
+            const float residual = row(r, -limit, limit, false);
+            maxResidual2 = std::max(maxResidual2, residual * residual);
+        }
+        return maxResidual2;
+    }
+
+    // As the kernel: the normal rows (on push and turn velocities in the penetration pass), then in
+    // the velocity pass the friction and rolling rows of the same constraint.
     float constraint(const btoclConstraint& c, int pass) {
         float maxResidual2 = 0;
-        const int rowPass = pass == BTOCL_PASS_PENETRATION ? BTOCL_PASS_NORMAL : pass;
-        for (int i = c.firstRow[rowPass]; i < c.firstRow[rowPass] + c.numRows[rowPass]; ++i) {
+        for (int i = c.firstRow[BTOCL_PASS_NORMAL]; i < c.firstRow[BTOCL_PASS_NORMAL] + c.numRows[BTOCL_PASS_NORMAL]; ++i) {
             btoclRow& r = p.rows[size_t(i)];
             float residual = 0;
-            if (pass == BTOCL_PASS_NORMAL) {
-                residual = row(r, r.angularComponentA.w, FLT_MAX, false);
-            } else if (pass == BTOCL_PASS_PENETRATION) {
+            if (pass == BTOCL_PASS_PENETRATION) {
                 if (r.relpos1CrossNormal.w == 0) continue;
                 residual = row(r, r.angularComponentA.w, FLT_MAX, true);
             } else {
-                const float total = p.rows[size_t(r.frictionIndex)].impulses.x;
-                if (!(total > 0)) continue;
-                float limit = r.impulses.z * total;
-                if (pass == BTOCL_PASS_ROLLING && limit > r.impulses.z) limit = r.impulses.z;
-                residual = row(r, -limit, limit, false);
+                residual = row(r, r.angularComponentA.w, FLT_MAX, false);
             }
             maxResidual2 = std::max(maxResidual2, residual * residual);
+        }
+        if (pass == BTOCL_PASS_VELOCITY) {
+            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_PASS_FRICTION));
+            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_PASS_ROLLING));
         }
         return maxResidual2;
     }
@@ -110,9 +123,7 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
             if (solver.pass(layout, BTOCL_PASS_PENETRATION) <= settings.residualThreshold && track) break;
     int iterations = 0;
     for (int it = 0; it < settings.numIterations; ++it) {
-        float residual = 0;
-        for (int pass : {BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_PASS_ROLLING})
-            residual = std::max(residual, solver.pass(layout, pass));
+        const float residual = solver.pass(layout, BTOCL_PASS_VELOCITY);
         ++iterations;
         if (track && residual <= settings.residualThreshold) break;
     }

@@ -18,17 +18,20 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_NUM_SETS 4
 #define BTOCL_OVERFLOW_SET 4
 
-// Row kinds, in the order one solver iteration visits them (as btSequentialImpulseConstraintSolver:
-// joint rows, then all normal rows, then all friction rows, then rolling friction).
+// Row kinds: a constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
 #define BTOCL_PASS_JOINT 0
 #define BTOCL_PASS_NORMAL 1
 #define BTOCL_PASS_FRICTION 2
 #define BTOCL_PASS_ROLLING 3
 #define BTOCL_NUM_PASSES 4
-// Split-impulse penetration pass: the normal rows again, on push and turn velocities.
+// The passes of a step, over all constraints, set after set:
+// warm start: the normal rows' starting impulses applied to the bodies (rows set up on the device);
+// split-impulse penetration: the normal rows again, on push and turn velocities;
+// velocity: per constraint its normal rows, then its friction rows, then its rolling rows (SI
+// visits all normal rows, then all friction rows: an order change, see README).
 #define BTOCL_PASS_PENETRATION 4
-// Warm start: the normal rows' starting impulses applied to the bodies (rows set up on the device).
 #define BTOCL_PASS_WARMSTART 5
+#define BTOCL_PASS_VELOCITY 6
 
 // Solver flags (btoclSolveParams.flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)

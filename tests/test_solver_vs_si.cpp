@@ -57,6 +57,7 @@ TEST_CASE("a pile of 64 boxes settles as with SI", "[si]") {
     CHECK(stats.numBodies == 64);
     CHECK(stats.numContactPoints > 100);
     CHECK(stats.validationFailures == 0);
-    // A settled, stacked pile: both rest at the same heights within a centimetre.
-    CHECK(gap < 0.01f);
+    // The same pile solved in another Gauss-Seidel order: SI against itself with
+    // SOLVER_RANDMIZE_ORDER parts by 1.2 to 1.5 cm on this scene (three seeds), so 2 cm.
+    CHECK(gap < 0.02f);
 }
