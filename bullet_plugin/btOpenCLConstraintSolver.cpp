@@ -134,23 +134,29 @@ struct btOpenCLConstraintSolver::Impl {
 
     // Velocities, split-impulse transforms and applied impulses back to Bullet (SI's solveGroupCacheFriendlyFinish).
     void writeBack(const btocl::StepProblem& p, const btContactSolverInfo& info) {
-        if (info.m_solverMode & SOLVER_USE_WARMSTARTING) {
-            const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
-            for (int i = 0; i < p.numNormalRows; ++i) {
-                btManifoldPoint* pt = p.pointOfNormalRow[size_t(i)];
-                const size_t f = size_t(p.frictionRowOfNormalRow[size_t(i)]);
-                pt->m_appliedImpulse = p.appliedImpulses[size_t(i)];
+        // One walk over the manifold points (scattered in memory, so a few are fetched ahead):
+        // applied impulses, written only with warm starting as SI does, and the friction
+        // directions the setup kernel chose.
+        const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
+        const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+        const size_t n = size_t(p.numNormalRows);
+        for (size_t i = 0; i < n; ++i) {
+            if (i + 8 < n) {
+                const char* ahead = reinterpret_cast<const char*>(p.pointOfNormalRow[i + 8]);
+                for (size_t line = 0; line < sizeof(btManifoldPoint); line += 64) __builtin_prefetch(ahead + line, 1);
+            }
+            btManifoldPoint* pt = p.pointOfNormalRow[i];
+            if (impulses) {
+                const size_t f = size_t(p.frictionRowOfNormalRow[i]);
+                pt->m_appliedImpulse = p.appliedImpulses[i];
                 pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
                 if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];
             }
-        }
-        if (p.rowsOnDevice)  // friction directions the setup kernel chose, as SI stores them
-            for (size_t i = 0; i < p.points.size(); ++i) {
-                if (!p.pointTakesLateralDirs[i]) continue;
-                btManifoldPoint* pt = p.pointOfNormalRow[i];
+            if (p.rowsOnDevice && p.pointTakesLateralDirs[i]) {
                 pt->m_lateralFrictionDir1 = v3(p.lateralDirs[2 * i]);
                 pt->m_lateralFrictionDir2 = v3(p.lateralDirs[2 * i + 1]);
             }
+        }
         for (size_t i = 1; i < p.original.size(); ++i) {
             btRigidBody* rb = p.original[i];
             const btoclBody& b = p.bodies[i];
