@@ -48,6 +48,13 @@ struct btOpenCLConstraintSolver::Impl {
     bool gathering = false;    // solveGroup has begun gathering this step
     double msGather = 0;
 
+    // After an error: the bodies gathered so far released, the step and its bracket over.
+    void abandonStep() {
+        if (gathering) builder.releaseBodies();
+        gathering = false;
+        inStep = false;
+    }
+
     void gather(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
                 const btContactSolverInfo& info) {
         const auto t0 = Clock::now();
@@ -126,6 +133,7 @@ struct btOpenCLConstraintSolver::Impl {
             fillCounts(s, p);
         } catch (...) {
             builder.releaseBodies();  // leave the world as it was before the step's solve
+            inStep = false;
             throw;
         }
         s.msTotal = s.msGather + msSince(tStart);
@@ -203,19 +211,19 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
     (void)constraints;
     Impl& impl = *m_impl;
     if (numConstraints > 0) {
-        if (impl.gathering) impl.builder.releaseBodies();
-        impl.gathering = false;
+        impl.abandonStep();
         throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
                                   "remove them from the world or use btSequentialImpulseConstraintSolver");
     }
-    if (info.m_timeStep <= 0 || info.m_numIterations < 0)
+    if (!(info.m_timeStep > 0) || info.m_numIterations < 0) {
+        impl.abandonStep();
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the time step must be positive and the iteration count "
                                   "not negative");
+    }
     try {
         impl.gather(bodies, numBodies, manifolds, numManifolds, info);
     } catch (...) {
-        impl.builder.releaseBodies();
-        impl.gathering = false;
+        impl.abandonStep();
         throw;
     }
     if (!impl.inStep) impl.run();  // called outside a prepareSolve/allSolved bracket: solve now

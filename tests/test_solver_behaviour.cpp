@@ -91,3 +91,29 @@ TEST_CASE("solveGroup called outside prepareSolve/allSolved solves at once", "[a
     CHECK(box->getLinearVelocity().y() > -0.05f);  // the contacts stopped it
     CHECK(box->getCompanionId() == -1);
 }
+
+TEST_CASE("after an error inside a step, a hand-driven solveGroup still solves at once", "[errors]") {
+    // The error ends the step's prepareSolve/allSolved bracket: the solver must not wait for an
+    // allSolved that will never come.
+    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
+    w.addGround();
+    btRigidBody* box = w.addBox(btVector3(0, 0.5f, 0));
+    for (int s = 0; s < 20; ++s) w.world->stepSimulation(1.f / 60, 0);
+    btOpenCLConstraintSolver solver;
+    btContactSolverInfo info = w.world->getSolverInfo();
+    info.m_timeStep = 1.f / 60;
+    btCollisionObject* bodies[] = {box};
+    std::vector<btPersistentManifold*> manifolds;
+    for (int i = 0; i < w.dispatcher.getNumManifolds(); ++i) manifolds.push_back(w.dispatcher.getManifoldByIndexInternal(i));
+    solver.prepareSolve(1, int(manifolds.size()));
+    btContactSolverInfo bad = info;
+    bad.m_timeStep = 0;
+    CHECK_THROWS_AS(solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, bad, nullptr,
+                                      &w.dispatcher),
+                    btOpenCLSolverError);
+    CHECK(box->getCompanionId() == -1);
+    box->setLinearVelocity(btVector3(0, -1, 0));
+    solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, info, nullptr, &w.dispatcher);
+    CHECK(solver.getLastStats().numContactPoints == 4);
+    CHECK(box->getLinearVelocity().y() > -0.05f);
+}
