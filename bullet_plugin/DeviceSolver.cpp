@@ -138,7 +138,7 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         m_endIteration.setArg(2, split);
         checkCl(m_rt.queue().enqueueNDRangeKernel(m_endIteration, cl::NullRange, cl::NDRange(1)), "launching endIteration");
     };
-    if (s.splitImpulse)
+    if (s.splitImpulse && anyPenetrationShare())
         for (int it = 0; it < s.numIterations; ++it) {
             launchPass(layout, BTOCL_PASS_PENETRATION, s.flags);
             endIteration(1);
@@ -147,6 +147,14 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         launchPass(layout, BTOCL_PASS_VELOCITY, s.flags);
         endIteration(0);
     }
+}
+
+bool DeviceSolver::anyPenetrationShare() const {
+    // Most steps have no point deep enough for a split-impulse share; then the split-impulse
+    // iterations would change nothing, and are not launched. One int, read before the iterations.
+    int flag = 0;
+    m_control.read(m_rt, &flag, 1, nullptr, BTOCL_CONTROL_HAS_PENETRATION);
+    return flag != 0;
 }
 
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {

@@ -47,6 +47,7 @@ public:
 private:
     void launch(cl::Kernel& kernel, size_t items, const char* what);
     void launchPass(const DeviceLayoutView& layout, int pass, int flags);
+    bool anyPenetrationShare() const;
 
     const OclRuntime& m_rt;
     int m_workGroupSize;

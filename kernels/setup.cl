@@ -177,7 +177,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     if (prm.splitImpulse && !(penetration > prm.splitImpulsePenetrationThreshold)) {
         rhs = velocityImpulse;
         rhsPenetration = penetrationImpulse;
-        // Most steps have no point this deep: the split-impulse passes are skipped then.
+        // Most steps have no point this deep: the host then launches no split-impulse pass.
         if (rhsPenetration != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PENETRATION, 1);
     }
     const float friction = pt.positionOnB.w;

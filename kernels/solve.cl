@@ -142,8 +142,6 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase,
                      const int pass, int flags) {
     const int stopSlot = pass == BTOCL_PASS_PENETRATION ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED;
     if (control[stopSlot]) return;  // the same for every work-item: converged in an earlier iteration
-    // No row has a split-impulse share: the pass would change nothing (rows without one are skipped).
-    if (pass == BTOCL_PASS_PENETRATION && !control[BTOCL_CONTROL_HAS_PENETRATION]) return;
     const btoclGroup g = groups[groupBase + get_group_id(0)];
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
