@@ -42,6 +42,19 @@ public:
         write(rt, data.data(), data.size(), event);
     }
 
+    // Enqueues the copy without waiting: `data` must stay unchanged until the queue is finished.
+    void enqueueWrite(const OclRuntime& rt, const std::vector<T>& data) {
+        reserve(rt, data.size());
+        if (data.empty()) return;
+        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, data.size() * sizeof(T), data.data()),
+                "writing a device buffer");
+    }
+    // Enqueues the copy back without waiting: `data` is valid once the queue is finished.
+    void enqueueRead(const OclRuntime& rt, T* data, size_t n) const {
+        if (n == 0) return;
+        checkCl(rt.queue().enqueueReadBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data), "reading a device buffer");
+    }
+
     void read(const OclRuntime& rt, T* data, size_t n, cl::Event* event = nullptr, size_t offset = 0) const {
         if (n == 0) return;
         checkCl(rt.queue().enqueueReadBuffer(m_buffer, event ? CL_FALSE : CL_TRUE, offset * sizeof(T),

@@ -28,19 +28,21 @@ void DeviceSolver::launch(cl::Kernel& kernel, size_t items, const char* what) {
             what);
 }
 
+// The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
+// step is written back, and m_controlStart is a member.
 void DeviceSolver::upload(const StepProblem& p) {
-    m_bodies.write(m_rt, p.bodies);
-    m_deltas.write(m_rt, p.deltas);
-    m_constraints.write(m_rt, p.constraints);
-    std::array<int, BTOCL_CONTROL_SIZE> control{};
+    m_bodies.enqueueWrite(m_rt, p.bodies);
+    m_deltas.enqueueWrite(m_rt, p.deltas);
+    m_constraints.enqueueWrite(m_rt, p.constraints);
+    m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
     if (!p.rowsOnDevice)  // the setup kernel sets this flag itself
         for (const btoclRow& r : p.rows)
-            if (r.relpos1CrossNormal.w != 0) control[BTOCL_CONTROL_HAS_PENETRATION] = 1;
-    m_control.write(m_rt, control.data(), control.size());
+            if (r.relpos1CrossNormal.w != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
+    m_control.enqueueWrite(m_rt, m_controlStart);
     if (p.rowsOnDevice)
-        m_points.write(m_rt, p.points);
+        m_points.enqueueWrite(m_rt, p.points);
     else
-        m_hostRows.write(m_rt, p.rows);
+        m_hostRows.enqueueWrite(m_rt, p.rows);
 }
 
 DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
@@ -158,7 +160,8 @@ bool DeviceSolver::anyPenetrationShare() const {
 }
 
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
-    m_deltas.read(m_rt, p.deltas.data(), p.deltas.size());
+    // Every copy enqueued, then one wait.
+    m_deltas.enqueueRead(m_rt, p.deltas.data(), p.deltas.size());
     const int n = p.numNormalRows + p.numFrictionRows;
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
@@ -168,15 +171,16 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
         m_gatherImpulses.setArg(2, m_impulses.buffer());
         m_gatherImpulses.setArg(3, n);
         launch(m_gatherImpulses, size_t(n), "launching gatherAppliedImpulses");
-        m_impulses.read(m_rt, p.appliedImpulses.data(), size_t(n));
+        m_impulses.enqueueRead(m_rt, p.appliedImpulses.data(), size_t(n));
     }
     if (p.rowsOnDevice) {
         p.lateralDirs.resize(2 * p.points.size());
-        m_lateralDirs.read(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
+        m_lateralDirs.enqueueRead(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
     }
-    if (!(s.flags & BTOCL_FLAG_TRACK_RESIDUAL)) return p.numNormalRows > 0 ? s.numIterations : 0;
-    int iterations = 0;
-    m_control.read(m_rt, &iterations, 1, nullptr, BTOCL_CONTROL_ITERATIONS);
+    int iterations = p.numNormalRows > 0 ? s.numIterations : 0;
+    if (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) m_control.enqueueRead(m_rt, m_controlEnd.data(), m_controlEnd.size());
+    m_rt.finish("reading the results back");
+    if (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) iterations = m_controlEnd[BTOCL_CONTROL_ITERATIONS];
     return iterations;
 }
 

@@ -65,6 +65,8 @@ private:
     DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control, m_rowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
+    std::vector<int> m_controlStart;                            // the control block as uploaded
+    std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};         // ... and as read back
 };
 
 }  // namespace btocl
