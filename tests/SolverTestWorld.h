@@ -43,6 +43,19 @@ struct SolverTestWorld {
         world->addRigidBody(bodies.back().get());
         return bodies.back().get();
     }
+    // The world's contact manifolds, as the dispatcher holds them now.
+    std::vector<btPersistentManifold*> manifolds() {
+        std::vector<btPersistentManifold*> out;
+        for (int i = 0; i < dispatcher.getNumManifolds(); ++i) out.push_back(dispatcher.getManifoldByIndexInternal(i));
+        return out;
+    }
+    // The world's solver settings with the fixed step the tests use.
+    btContactSolverInfo stepInfo() {
+        btContactSolverInfo info = world->getSolverInfo();
+        info.m_timeStep = 1.f / 60;
+        return info;
+    }
+
     btRigidBody* addGround() { return add(new btBoxShape(btVector3(50, 1, 50)), 0, btVector3(0, -1, 0)); }
     btRigidBody* addBox(const btVector3& at, btScalar half = 0.5f, btScalar mass = 1) {
         return add(new btBoxShape(btVector3(half, half, half)), mass, at);

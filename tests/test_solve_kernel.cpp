@@ -21,9 +21,7 @@ StepProblem gatherProblem(SolverTestWorld& w, const btContactSolverInfo& info, R
     builder.begin(info, setup);
     btCollisionObjectArray& objects = w.world->getCollisionObjectArray();
     builder.addBodies(&objects[0], objects.size());
-    btDispatcher* d = w.world->getDispatcher();
-    std::vector<btPersistentManifold*> manifolds;
-    for (int i = 0; i < d->getNumManifolds(); ++i) manifolds.push_back(d->getManifoldByIndexInternal(i));
+    const std::vector<btPersistentManifold*> manifolds = w.manifolds();
     builder.addManifolds(manifolds.data(), int(manifolds.size()));
     StepProblem p = builder.finish();
     builder.releaseBodies();
@@ -36,16 +34,35 @@ StepProblem gatherPileProblem(SolverTestWorld& w, const btContactSolverInfo& inf
     return gatherProblem(w, info, setup);
 }
 
+// Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order.
+// Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
+int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
+                  std::vector<btoclRow>* rows = nullptr) {
+    OclRuntime rt("");
+    DeviceSolver solver(rt, 64);
+    solver.upload(p);
+    const DeviceLayoutView view = solver.uploadLayout(layout);
+    solver.arrange(p, view);
+    solver.iterate(p, view, settings);
+    const int iterations = solver.download(p, settings);
+    if (rows) *rows = solver.downloadRows(p);
+    return iterations;
+}
+
+// Ground and a 64-box pile, solved by SI to make contacts.
+void buildPile(SolverTestWorld& w) {
+    w.addGround();
+    w.addPile(64);
+}
+
 float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
 
 }  // namespace
 
 TEST_CASE("device solve matches the serial host reference on a gathered pile", "[solve]") {
     SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    w.addGround();
-    w.addPile(64);
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
+    buildPile(w);
+    btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
@@ -56,13 +73,7 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     const SolveSettings settings = SolveSettings::from(info);
 
     solveOnHost(host, layout, settings);
-    OclRuntime rt("");
-    DeviceSolver solver(rt, 64);
-    solver.upload(dev);
-    const DeviceLayoutView view = solver.uploadLayout(layout);
-    solver.arrange(dev, view);
-    solver.iterate(dev, view, settings);
-    solver.download(dev, settings);
+    solveOnDevice(dev, layout, settings);
 
     // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
     // changes the last bits of each row update: 1e-4 relative over 10 iterations bounds that.
@@ -96,16 +107,9 @@ void requireDeviceSetupAsHost(SolverTestWorld& w, const btContactSolverInfo& inf
     REQUIRE(dev.numRows() == host.numRows());
     REQUIRE(dev.constraints.size() == host.constraints.size());
 
-    OclRuntime rt("");
-    DeviceSolver solver(rt, 64);
-    solver.upload(dev);
     SolveSettings settings = SolveSettings::from(info);
     settings.numIterations = 0;  // warm start only: compare the starting deltas
-    const DeviceLayoutView view = solver.uploadLayout(buildSerialLayout(int(dev.constraints.size())));
-    solver.arrange(dev, view);
-    solver.iterate(dev, view, settings);
-    solver.download(dev, settings);
-    dev.rows = solver.downloadRows(dev);
+    solveOnDevice(dev, buildSerialLayout(int(dev.constraints.size())), settings, &dev.rows);
 
     // The kernel evaluates SI's formulas in the same order; fused multiply-adds and OpenCL's own
     // normalize() change the last bits only: 1e-5 relative (absolute below 1).
@@ -151,8 +155,7 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
         w.bodies[i]->setRestitution(0.4f);
     }
     w.bodies[0]->setRollingFriction(0.2f);
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
+    btContactSolverInfo info = w.stepInfo();
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     if (mode == 3) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
@@ -204,8 +207,7 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
     for (size_t i = 1; i < w.bodies.size(); i += 7) w.bodies[i]->setRollingFriction(0.1f);
     for (int i = 0; i < 3; ++i) w.world->stepSimulation(1.f / 60, 0);
     REQUIRE(w.dispatcher.getNumManifolds() > 4000);
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
+    btContactSolverInfo info = w.stepInfo();
     // Friction along the plane space: a direction taken from a nearly-zero sliding velocity is
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
@@ -214,10 +216,8 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
 
 TEST_CASE("a residual threshold stops the device iterations where the host reference stops", "[solve]") {
     SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    w.addGround();
-    w.addPile(64);
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
+    buildPile(w);
+    btContactSolverInfo info = w.stepInfo();
     info.m_numIterations = 50;
     info.m_leastSquaresResidualThreshold = 1e-3f;  // reached after about a dozen iterations
     StepProblem host = gatherPileProblem(w, info);
@@ -226,13 +226,7 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     const SolveSettings settings = SolveSettings::from(info);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
     const int hostIterations = solveOnHost(host, layout, settings);
-    OclRuntime rt("");
-    DeviceSolver solver(rt, 64);
-    solver.upload(dev);
-    const DeviceLayoutView view = solver.uploadLayout(layout);
-    solver.arrange(dev, view);
-    solver.iterate(dev, view, settings);
-    const int deviceIterations = solver.download(dev, settings);
+    const int deviceIterations = solveOnDevice(dev, layout, settings);
     INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
     // The threshold is reached before the cap, and at the same iteration: the device computes
     // SI's residual (impulse change over the row's effective mass) as the host does; a rounding

@@ -10,6 +10,26 @@
 
 namespace {
 
+// A box settled on the ground by SI, and our solver driven by hand on its contacts.
+struct HandDriven {
+    SolverTestWorld w{std::make_unique<btSequentialImpulseConstraintSolver>()};
+    btRigidBody* box = settle(w);
+    btOpenCLConstraintSolver solver;
+    btContactSolverInfo info = w.stepInfo();
+    std::vector<btPersistentManifold*> manifolds = w.manifolds();
+
+    static btRigidBody* settle(SolverTestWorld& world) {
+        world.addGround();
+        btRigidBody* b = world.addBox(btVector3(0, 0.5f, 0));
+        for (int s = 0; s < 20; ++s) world.world->stepSimulation(1.f / 60, 0);
+        return b;
+    }
+    void solveGroup(const btContactSolverInfo& with) {
+        btCollisionObject* bodies[] = {box};
+        solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, with, nullptr, &w.dispatcher);
+    }
+};
+
 std::vector<btTransform> runPile(int boxes, int steps) {
     SolverTestWorld w(makeValidatingSolver());
     w.addGround();
@@ -74,46 +94,26 @@ TEST_CASE("bad configurations are refused with a message", "[errors]") {
 
 TEST_CASE("solveGroup called outside prepareSolve/allSolved solves at once", "[api]") {
     // Some users drive a solver by hand; then each solveGroup call is a whole step.
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    w.addGround();
-    btRigidBody* box = w.addBox(btVector3(0, 0.5f, 0));
-    for (int s = 0; s < 20; ++s) w.world->stepSimulation(1.f / 60, 0);  // contacts exist now
-    btOpenCLConstraintSolver solver;
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
-    btCollisionObject* bodies[] = {box};
-    std::vector<btPersistentManifold*> manifolds;
-    for (int i = 0; i < w.dispatcher.getNumManifolds(); ++i) manifolds.push_back(w.dispatcher.getManifoldByIndexInternal(i));
-    REQUIRE_FALSE(manifolds.empty());
-    box->setLinearVelocity(btVector3(0, -1, 0));  // moving into the ground
-    solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, info, nullptr, &w.dispatcher);
-    CHECK(solver.getLastStats().numContactPoints == 4);
-    CHECK(box->getLinearVelocity().y() > -0.05f);  // the contacts stopped it
-    CHECK(box->getCompanionId() == -1);
+    HandDriven h;
+    REQUIRE_FALSE(h.manifolds.empty());
+    h.box->setLinearVelocity(btVector3(0, -1, 0));  // moving into the ground
+    h.solveGroup(h.info);
+    CHECK(h.solver.getLastStats().numContactPoints == 4);
+    CHECK(h.box->getLinearVelocity().y() > -0.05f);  // the contacts stopped it
+    CHECK(h.box->getCompanionId() == -1);
 }
 
 TEST_CASE("after an error inside a step, a hand-driven solveGroup still solves at once", "[errors]") {
     // The error ends the step's prepareSolve/allSolved bracket: the solver must not wait for an
     // allSolved that will never come.
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    w.addGround();
-    btRigidBody* box = w.addBox(btVector3(0, 0.5f, 0));
-    for (int s = 0; s < 20; ++s) w.world->stepSimulation(1.f / 60, 0);
-    btOpenCLConstraintSolver solver;
-    btContactSolverInfo info = w.world->getSolverInfo();
-    info.m_timeStep = 1.f / 60;
-    btCollisionObject* bodies[] = {box};
-    std::vector<btPersistentManifold*> manifolds;
-    for (int i = 0; i < w.dispatcher.getNumManifolds(); ++i) manifolds.push_back(w.dispatcher.getManifoldByIndexInternal(i));
-    solver.prepareSolve(1, int(manifolds.size()));
-    btContactSolverInfo bad = info;
+    HandDriven h;
+    h.solver.prepareSolve(1, int(h.manifolds.size()));
+    btContactSolverInfo bad = h.info;
     bad.m_timeStep = 0;
-    CHECK_THROWS_AS(solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, bad, nullptr,
-                                      &w.dispatcher),
-                    btOpenCLSolverError);
-    CHECK(box->getCompanionId() == -1);
-    box->setLinearVelocity(btVector3(0, -1, 0));
-    solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, info, nullptr, &w.dispatcher);
-    CHECK(solver.getLastStats().numContactPoints == 4);
-    CHECK(box->getLinearVelocity().y() > -0.05f);
+    CHECK_THROWS_AS(h.solveGroup(bad), btOpenCLSolverError);
+    CHECK(h.box->getCompanionId() == -1);
+    h.box->setLinearVelocity(btVector3(0, -1, 0));
+    h.solveGroup(h.info);
+    CHECK(h.solver.getLastStats().numContactPoints == 4);
+    CHECK(h.box->getLinearVelocity().y() > -0.05f);
 }
