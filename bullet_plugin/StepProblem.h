@@ -82,7 +82,7 @@ private:
     std::vector<btPersistentManifold*> m_manifolds;
     StepProblem m_problem;
     std::vector<btoclRow> m_normalRows, m_frictionRows, m_rollingRows;
-    int m_numFriction = 0, m_numRolling = 0;  // rows counted so far (device setup)
+    int m_numFriction = 0, m_numRolling = 0;  // friction and rolling rows counted so far
 };
 
 }  // namespace btocl

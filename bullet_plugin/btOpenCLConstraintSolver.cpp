@@ -70,7 +70,6 @@ struct btOpenCLConstraintSolver::Impl {
 
     void run() {
         if (!gathering) return;
-        gathering = false;
         const auto tStart = Clock::now();
         btOpenCLSolverStats s;
         try {
@@ -132,10 +131,10 @@ struct btOpenCLConstraintSolver::Impl {
 
             fillCounts(s, p);
         } catch (...) {
-            builder.releaseBodies();  // leave the world as it was before the step's solve
-            inStep = false;
+            abandonStep();  // leave the world as it was before the step's solve
             throw;
         }
+        gathering = false;
         s.msTotal = s.msGather + msSince(tStart);
         stats = s;
     }
