@@ -10,6 +10,7 @@ packages=(
   catch2
   libboost-dev
   libpng-dev
+  nlohmann-json3-dev libcli11-dev
   python3
 )
 
