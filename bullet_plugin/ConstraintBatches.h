@@ -1,8 +1,8 @@
 // The layout that the global split and the local batching produce and the solve consumes:
-// constraints ordered by set, then group (cell), then batch. See kernels/btOclShared.h.
+// constraints ordered by set, then group (cell), then batch. See kernels/btocl_shared.h.
 #pragma once
 
-#include "btOclShared.h"
+#include "btocl_shared.h"
 #include "split_grid.h"
 
 #include <array>

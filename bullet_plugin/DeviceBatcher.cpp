@@ -37,14 +37,14 @@ void setArgs(cl::Kernel& kernel, const Args&... args) {
 DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt), m_prims(rt) {
     // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
     m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
-    m_kBounds = rt.makeKernel(m_splitProgram, "splitBounds");
-    m_kGridSetup = rt.makeKernel(m_splitProgram, "splitGridSetup");
-    m_kKeys = rt.makeKernel(m_splitProgram, "splitKeys");
-    m_kClearBins = rt.makeKernel(m_splitProgram, "splitClearBins");
-    m_kMarkBins = rt.makeKernel(m_splitProgram, "splitMarkBins");
-    m_kBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
-    m_kWriteGroups = rt.makeKernel(m_splitProgram, "splitWriteGroups");
-    m_kWriteSummary = rt.makeKernel(m_splitProgram, "splitWriteSummary");
+    m_splitBounds = rt.makeKernel(m_splitProgram, "splitBounds");
+    m_splitGridSetup = rt.makeKernel(m_splitProgram, "splitGridSetup");
+    m_splitKeys = rt.makeKernel(m_splitProgram, "splitKeys");
+    m_splitClearBins = rt.makeKernel(m_splitProgram, "splitClearBins");
+    m_splitMarkBins = rt.makeKernel(m_splitProgram, "splitMarkBins");
+    m_splitBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
+    m_splitWriteGroups = rt.makeKernel(m_splitProgram, "splitWriteGroups");
+    m_splitWriteSummary = rt.makeKernel(m_splitProgram, "splitWriteSummary");
     batchProgram(64);
 }
 
@@ -67,9 +67,9 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
     if (it != m_batchPrograms.end()) return it->second;
     BatchProgram p;
     p.window = windowSize(wg);
-    const std::string options = "-DBATCH_WG=" + std::to_string(wg) + " -DBATCH_WINDOW=" + std::to_string(p.window) +
-                                " -DBATCH_TABLE_BITS=" + std::to_string(tableBitsFor(p.window)) +
-                                " -DBATCH_WINDOW_BITS=" + std::to_string(batchWindowBits(p.window));
+    const std::string options = "-DBTOCL_BATCH_WG=" + std::to_string(wg) + " -DBTOCL_BATCH_WINDOW=" + std::to_string(p.window) +
+                                " -DBTOCL_BATCH_TABLE_BITS=" + std::to_string(tableBitsFor(p.window)) +
+                                " -DBTOCL_BATCH_WINDOW_BITS=" + std::to_string(batchWindowBits(p.window));
     p.program = m_rt.buildProgramFile("batch.cl", options);
     p.kernel = m_rt.makeKernel(p.program, "batchGroups");
     return m_batchPrograms.emplace(wg, std::move(p)).first->second;
@@ -125,31 +125,31 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     const cl::Buffer& cb = constraints.buffer();
     std::vector<cl::Event>& ev = m_splitEvents;
 
-    setArgs(m_kBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
-    enqueue(m_kBounds, kBoundsChunks, 0, ev, "enqueueing splitBounds");
-    setArgs(m_kGridSetup, m_partMin.buffer(), m_partMax.buffer(), kBoundsChunks, plan.baseCellSize, m_grid.buffer());
-    enqueue(m_kGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
-    setArgs(m_kKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
+    setArgs(m_splitBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
+    enqueue(m_splitBounds, kBoundsChunks, 0, ev, "enqueueing splitBounds");
+    setArgs(m_splitGridSetup, m_partMin.buffer(), m_partMax.buffer(), kBoundsChunks, plan.baseCellSize, m_grid.buffer());
+    enqueue(m_splitGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
+    setArgs(m_splitKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
             m_sorted.buffer());
-    enqueue(m_kKeys, size_t(n), kLanes, ev, "enqueueing splitKeys");
+    enqueue(m_splitKeys, size_t(n), kLanes, ev, "enqueueing splitKeys");
 
     // Stable sort by key (kernels/primitives.cl); keys < 2^16 by construction, so no key check.
     m_prims.sortByKeySmallRange(m_keys.buffer(), m_sorted.buffer(), size_t(n), BTOCL_SPLIT_NUM_KEYS, false);
 
     // Groups: one per non-empty key, numbered by a scan over the key bins.
-    setArgs(m_kClearBins, m_binStart.buffer(), m_binEnd.buffer());
-    enqueue(m_kClearBins, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitClearBins");
-    setArgs(m_kMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
-    enqueue(m_kMarkBins, size_t(n), kLanes, ev, "enqueueing splitMarkBins");
-    setArgs(m_kBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
-    enqueue(m_kBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
+    setArgs(m_splitClearBins, m_binStart.buffer(), m_binEnd.buffer());
+    enqueue(m_splitClearBins, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitClearBins");
+    setArgs(m_splitMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
+    enqueue(m_splitMarkBins, size_t(n), kLanes, ev, "enqueueing splitMarkBins");
+    setArgs(m_splitBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
+    enqueue(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
-    setArgs(m_kWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
+    setArgs(m_splitWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_groups.buffer());
-    enqueue(m_kWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
-    setArgs(m_kWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
+    enqueue(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
+    setArgs(m_splitWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_summary.buffer());
-    enqueue(m_kWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
+    enqueue(m_splitWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
 
     // The one read-back: the batch launch needs the number of groups.
     int summary[kSummaryInts];

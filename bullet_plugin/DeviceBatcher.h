@@ -65,8 +65,8 @@ private:
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;
     DevicePrimitives m_prims;  // the stable sort by cell key and the scan over key bins
-    cl::Kernel m_kBounds, m_kGridSetup, m_kKeys, m_kClearBins, m_kMarkBins, m_kBinFlags, m_kWriteGroups,
-        m_kWriteSummary;
+    cl::Kernel m_splitBounds, m_splitGridSetup, m_splitKeys, m_splitClearBins, m_splitMarkBins, m_splitBinFlags, m_splitWriteGroups,
+        m_splitWriteSummary;
     std::map<int, BatchProgram> m_batchPrograms;
 
     DeviceBuffer<cl_float4> m_partMin, m_partMax;

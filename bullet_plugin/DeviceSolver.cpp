@@ -37,7 +37,7 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
     if (!p.rowsOnDevice)  // the setup kernel sets this flag itself
         for (const btoclRow& r : p.rows)
-            if (r.relpos1CrossNormal.w != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
+            if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
     m_control.enqueueWrite(m_rt, m_controlStart);
     if (p.rowsOnDevice)
         m_points.enqueueWrite(m_rt, p.points);
@@ -190,8 +190,8 @@ std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
     const std::vector<int> map = m_rowMap.read(m_rt, n);
     const std::vector<float> applied = m_applied.read(m_rt, n), pushApplied = m_pushApplied.read(m_rt, n);
     for (size_t r = 0; r < n; ++r) {  // the live impulses, as a host-built row holds them
-        placed[r].impulses.x = applied[r];
-        placed[r].impulses.y = pushApplied[r];
+        BTOCL_ROW_APPLIED(placed[r]) = applied[r];
+        BTOCL_ROW_APPLIED_PUSH(placed[r]) = pushApplied[r];
     }
     std::vector<int> unmap(n);
     for (size_t r = 0; r < n; ++r) unmap[size_t(map[r])] = int(r);

@@ -53,7 +53,7 @@ private:
     int m_workGroupSize;
     DevicePrimitives m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
-    std::array<cl::Kernel, 7> m_passKernels;  // by BTOCL_PASS_* (penetration, warm start, velocity)
+    std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
     cl::Kernel m_endIteration, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;

@@ -28,7 +28,7 @@ struct RowSolver {
 
     void apply(int body, const btoclFloat4& linear, const btoclFloat4& angular, float impulse, bool push) {
         const btoclBody& b = p.bodies[size_t(body)];
-        if (b.invMass.w == 0) return;
+        if (BTOCL_BODY_IS_DYNAMIC(b) == 0) return;
         btoclBodyDelta& d = p.deltas[size_t(body)];
         addScaled(push ? d.pushVelocity : d.deltaLinearVelocity, linear, impulse, applyFactors ? &b.linearFactor : nullptr);
         addScaled(push ? d.turnVelocity : d.deltaAngularVelocity, angular, impulse, applyFactors ? &b.angularFactor : nullptr);
@@ -37,9 +37,9 @@ struct RowSolver {
     float row(btoclRow& r, float lower, float upper, bool push) {
         const btoclBodyDelta& dA = p.deltas[size_t(r.bodyA)];
         const btoclBodyDelta& dB = p.deltas[size_t(r.bodyB)];
-        const float jacDiagABInv = r.relpos2CrossNormal.w;
-        const float applied = push ? r.impulses.y : r.impulses.x;
-        float deltaImpulse = (push ? r.relpos1CrossNormal.w : r.contactNormal1.w) - applied * r.contactNormal2.w;
+        const float jacDiagABInv = BTOCL_ROW_JAC_DIAG_INV(r);
+        const float applied = push ? BTOCL_ROW_APPLIED_PUSH(r) : BTOCL_ROW_APPLIED(r);
+        float deltaImpulse = (push ? BTOCL_ROW_RHS_PENETRATION(r) : BTOCL_ROW_RHS(r)) - applied * BTOCL_ROW_CFM(r);
         const float deltaVel1Dotn = dot3(r.contactNormal1, push ? dA.pushVelocity : dA.deltaLinearVelocity) +
                                     dot3(r.relpos1CrossNormal, push ? dA.turnVelocity : dA.deltaAngularVelocity);
         const float deltaVel2Dotn = dot3(r.contactNormal2, push ? dB.pushVelocity : dB.deltaLinearVelocity) +
@@ -55,7 +55,7 @@ struct RowSolver {
             deltaImpulse = upper - applied;
             newApplied = upper;
         }
-        (push ? r.impulses.y : r.impulses.x) = newApplied;
+        (push ? BTOCL_ROW_APPLIED_PUSH(r) : BTOCL_ROW_APPLIED(r)) = newApplied;
         apply(r.bodyA, mul(r.contactNormal1, p.bodies[size_t(r.bodyA)].invMass), r.angularComponentA, deltaImpulse, push);
         apply(r.bodyB, mul(r.contactNormal2, p.bodies[size_t(r.bodyB)].invMass), r.angularComponentB, deltaImpulse, push);
         return deltaImpulse * (1.0f / jacDiagABInv);
@@ -65,10 +65,10 @@ struct RowSolver {
         float maxResidual2 = 0;
         for (int i = c.firstRow[kind]; i < c.firstRow[kind] + c.numRows[kind]; ++i) {
             btoclRow& r = p.rows[size_t(i)];
-            const float total = p.rows[size_t(r.frictionIndex)].impulses.x;
+            const float total = BTOCL_ROW_APPLIED(p.rows[size_t(r.frictionIndex)]);
             if (!(total > 0)) continue;
-            float limit = r.impulses.z * total;
-            if (kind == BTOCL_PASS_ROLLING && limit > r.impulses.z) limit = r.impulses.z;
+            float limit = BTOCL_ROW_FRICTION(r) * total;
+            if (kind == BTOCL_ROWS_ROLLING && limit > BTOCL_ROW_FRICTION(r)) limit = BTOCL_ROW_FRICTION(r);
             const float residual = row(r, -limit, limit, false);
             maxResidual2 = std::max(maxResidual2, residual * residual);
         }
@@ -79,20 +79,20 @@ struct RowSolver {
     // the velocity pass the friction and rolling rows of the same constraint.
     float constraint(const btoclConstraint& c, int pass) {
         float maxResidual2 = 0;
-        for (int i = c.firstRow[BTOCL_PASS_NORMAL]; i < c.firstRow[BTOCL_PASS_NORMAL] + c.numRows[BTOCL_PASS_NORMAL]; ++i) {
+        for (int i = c.firstRow[BTOCL_ROWS_NORMAL]; i < c.firstRow[BTOCL_ROWS_NORMAL] + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {
             btoclRow& r = p.rows[size_t(i)];
             float residual = 0;
             if (pass == BTOCL_PASS_PENETRATION) {
-                if (r.relpos1CrossNormal.w == 0) continue;
-                residual = row(r, r.angularComponentA.w, FLT_MAX, true);
+                if (BTOCL_ROW_RHS_PENETRATION(r) == 0) continue;
+                residual = row(r, BTOCL_ROW_LOWER(r), FLT_MAX, true);
             } else {
-                residual = row(r, r.angularComponentA.w, FLT_MAX, false);
+                residual = row(r, BTOCL_ROW_LOWER(r), FLT_MAX, false);
             }
             maxResidual2 = std::max(maxResidual2, residual * residual);
         }
         if (pass == BTOCL_PASS_VELOCITY) {
-            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_PASS_FRICTION));
-            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_PASS_ROLLING));
+            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_ROWS_FRICTION));
+            maxResidual2 = std::max(maxResidual2, frictionRows(c, BTOCL_ROWS_ROLLING));
         }
         return maxResidual2;
     }

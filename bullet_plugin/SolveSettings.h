@@ -1,7 +1,7 @@
 // The parts of btContactSolverInfo that the iterations read.
 #pragma once
 
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 

@@ -271,21 +271,21 @@ bool StepProblemBuilder::beginManifold(btPersistentManifold* manifold, btoclCons
     c = btoclConstraint{};
     c.bodyA = idA;
     c.bodyB = idB;
-    c.dynamicA = p.bodies[idA].invMass.w != 0;
-    c.dynamicB = p.bodies[idB].invMass.w != 0;
-    c.firstRow[BTOCL_PASS_NORMAL] = int(p.pointOfNormalRow.size());
-    c.firstRow[BTOCL_PASS_FRICTION] = m_numFriction;
-    c.firstRow[BTOCL_PASS_ROLLING] = m_numRolling;
+    c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
+    c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
+    c.firstRow[BTOCL_ROWS_NORMAL] = int(p.pointOfNormalRow.size());
+    c.firstRow[BTOCL_ROWS_FRICTION] = m_numFriction;
+    c.firstRow[BTOCL_ROWS_ROLLING] = m_numRolling;
     return true;
 }
 
 void StepProblemBuilder::endManifold(btoclConstraint& c, const btVector3& pointSum) {
     StepProblem& p = m_problem;
-    c.numRows[BTOCL_PASS_NORMAL] = int(p.pointOfNormalRow.size()) - c.firstRow[BTOCL_PASS_NORMAL];
-    c.numRows[BTOCL_PASS_FRICTION] = m_numFriction - c.firstRow[BTOCL_PASS_FRICTION];
-    c.numRows[BTOCL_PASS_ROLLING] = m_numRolling - c.firstRow[BTOCL_PASS_ROLLING];
-    if (c.numRows[BTOCL_PASS_NORMAL] == 0) return;
-    c.position = f4(pointSum / btScalar(c.numRows[BTOCL_PASS_NORMAL]));
+    c.numRows[BTOCL_ROWS_NORMAL] = int(p.pointOfNormalRow.size()) - c.firstRow[BTOCL_ROWS_NORMAL];
+    c.numRows[BTOCL_ROWS_FRICTION] = m_numFriction - c.firstRow[BTOCL_ROWS_FRICTION];
+    c.numRows[BTOCL_ROWS_ROLLING] = m_numRolling - c.firstRow[BTOCL_ROWS_ROLLING];
+    if (c.numRows[BTOCL_ROWS_NORMAL] == 0) return;
+    c.position = f4(pointSum / btScalar(c.numRows[BTOCL_ROWS_NORMAL]));
     p.constraints.push_back(c);
 }
 
@@ -536,8 +536,8 @@ StepProblem& StepProblemBuilder::finish() {
     const int frictionBase = p.numNormalRows;
     const int rollingBase = frictionBase + p.numFrictionRows;
     for (btoclConstraint& c : p.constraints) {
-        c.firstRow[BTOCL_PASS_FRICTION] += frictionBase;
-        c.firstRow[BTOCL_PASS_ROLLING] += rollingBase;
+        c.firstRow[BTOCL_ROWS_FRICTION] += frictionBase;
+        c.firstRow[BTOCL_ROWS_ROLLING] += rollingBase;
     }
     for (btoclContactPoint& pt : p.points) {
         pt.firstFrictionRow += frictionBase;

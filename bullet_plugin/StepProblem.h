@@ -4,7 +4,7 @@
 #pragma once
 
 #include "ConstraintBatches.h"
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 #include <LinearMath/btTransform.h>

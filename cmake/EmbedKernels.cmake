@@ -1,8 +1,14 @@
-# Embeds every file under kernels/ into a generated C++ source, so the library needs no
+# Embeds the OpenCL sources under kernels/ into a generated C++ source, so the library needs no
 # file look-ups at run time. The generated file is rebuilt whenever a kernel file changes.
+set(BTOCL_KERNEL_FILES
+  arrange.cl batch.cl primitives.cl setup.cl solve.cl split.cl
+  batch_priority.h btocl_shared.h split_grid.h)
+
 function(btocl_embed_kernels out_cpp)
-  file(GLOB kernel_files CONFIGURE_DEPENDS
-       "${PROJECT_SOURCE_DIR}/kernels/*.cl" "${PROJECT_SOURCE_DIR}/kernels/*.h")
+  set(kernel_files "")
+  foreach(f IN LISTS BTOCL_KERNEL_FILES)
+    list(APPEND kernel_files "${PROJECT_SOURCE_DIR}/kernels/${f}")
+  endforeach()
   add_custom_command(
     OUTPUT "${out_cpp}"
     COMMAND "${CMAKE_COMMAND}" -DOUT=${out_cpp} "-DFILES=${kernel_files}"

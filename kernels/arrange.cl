@@ -1,11 +1,13 @@
 // Lays the constraints and their rows out in solve order (set, group, batch), so that every
 // solve pass streams through memory instead of jumping across it. A constraint's rows stay
-// together, pass after pass: [normal rows][friction rows][rolling rows].
+// together, kind after kind: [joint rows][normal rows][friction rows][rolling rows].
 // Host reference: the layout checks of tests/test_solve_kernel.cpp (rows read back through the map).
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 inline int rowCount(const btoclConstraint* c) {
-    return c->numRows[0] + c->numRows[1] + c->numRows[2] + c->numRows[3];
+    int n = 0;
+    for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) n += c->numRows[kind];
+    return n;
 }
 
 __kernel void countRowsInSolveOrder(__global const int* solveOrder, __global const btoclConstraint* constraints,
@@ -25,10 +27,10 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
     if (i >= n) return;
     btoclConstraint c = constraints[solveOrder[i]];
     int next = rowBase[i];
-    for (int pass = 0; pass < BTOCL_NUM_PASSES; ++pass) {
-        for (int k = 0; k < c.numRows[pass]; ++k) rowMap[c.firstRow[pass] + k] = next + k;
-        c.firstRow[pass] = next;
-        next += c.numRows[pass];
+    for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) {
+        for (int k = 0; k < c.numRows[kind]; ++k) rowMap[c.firstRow[kind] + k] = next + k;
+        c.firstRow[kind] = next;
+        next += c.numRows[kind];
     }
     placed[i] = c;
 }
@@ -43,8 +45,8 @@ __kernel void placeRows(__global const btoclRow* in, __global const int* rowMap,
     if (row.frictionIndex >= 0) row.frictionIndex = rowMap[row.frictionIndex];
     const int to = rowMap[r];
     out[to] = row;
-    applied[to] = row.impulses.x;
-    pushApplied[to] = row.impulses.y;
+    applied[to] = BTOCL_ROW_APPLIED(row);
+    pushApplied[to] = BTOCL_ROW_APPLIED_PUSH(row);
 }
 
 // The applied impulse of rows [0, n) in gather order, for the write-back to the manifold points.

@@ -1,7 +1,7 @@
 // Local batch creation (DESIGN §1, the paper's §2.2): one work-group per constraint group splits
 // the group into batches in which no dynamic body appears twice.
 //
-// The group streams through a local window of BATCH_WINDOW constraints. The window's dynamic bodies
+// The group streams through a local window of BTOCL_BATCH_WINDOW constraints. The window's dynamic bodies
 // have exact slots in a local open-addressing table (so no false conflicts). For each batch `rounds`
 // locking rounds run: every pending constraint offers its priority (batch_priority.h: a hash of its
 // index, then its window position) to the slots of its bodies with atomic_min; a constraint that holds
@@ -11,29 +11,29 @@
 // constraints leave through a local output buffer at positions from a prefix sum over lanes; the rest
 // are compacted (in order) and the window is refilled from the group. No lane ever waits for another
 // except at barriers, which every lane reaches (uniform loops).
-#include "btOclShared.h"
+#include "btocl_shared.h"
 #include "batch_priority.h"
 
-#ifndef BATCH_WG
-#define BATCH_WG 64
+#ifndef BTOCL_BATCH_WG
+#define BTOCL_BATCH_WG 64
 #endif
-#ifndef BATCH_WINDOW
-#define BATCH_WINDOW 512  // a multiple of BATCH_WG
+#ifndef BTOCL_BATCH_WINDOW
+#define BTOCL_BATCH_WINDOW 512  // a multiple of BTOCL_BATCH_WG
 #endif
-#ifndef BATCH_TABLE_BITS
-#define BATCH_TABLE_BITS 11  // 2^bits >= 4 * BATCH_WINDOW slots
+#ifndef BTOCL_BATCH_TABLE_BITS
+#define BTOCL_BATCH_TABLE_BITS 11  // 2^bits >= 4 * BTOCL_BATCH_WINDOW slots
 #endif
-#ifndef BATCH_WINDOW_BITS
-#define BATCH_WINDOW_BITS 9  // BATCH_WINDOW <= 2^bits
+#ifndef BTOCL_BATCH_WINDOW_BITS
+#define BTOCL_BATCH_WINDOW_BITS 9  // BTOCL_BATCH_WINDOW <= 2^bits
 #endif
-#define BATCH_TABLE (1 << BATCH_TABLE_BITS)
-#define BATCH_PER_LANE (BATCH_WINDOW / BATCH_WG)
+#define BTOCL_BATCH_TABLE (1 << BTOCL_BATCH_TABLE_BITS)
+#define BTOCL_BATCH_PER_LANE (BTOCL_BATCH_WINDOW / BTOCL_BATCH_WG)
 
-#define EMPTY_BODY (-1)
-#define NO_OFFER 0x7fffffff
-#define ST_PENDING 0
-#define ST_BLOCKED 1
-#define ST_SCHEDULED 2
+#define BTOCL_EMPTY_BODY (-1)
+#define BTOCL_NO_OFFER 0x7fffffff
+#define BTOCL_BATCH_PENDING 0
+#define BTOCL_BATCH_BLOCKED 1
+#define BTOCL_BATCH_SCHEDULED 2
 
 // The slot of `body` in a table of 2^bits slots, inserting it if new. Lock-free: a slot goes from
 // empty to a body once, so every lane probing for the same body walks the same filled slots and stops
@@ -42,46 +42,46 @@ static int batchTableSlot(__local int* keys, int bits, int body) {
     const int mask = (1 << bits) - 1;
     uint h = ((uint)body * 2654435761u) >> (32 - bits);
     for (int probe = 0; probe <= mask; ++probe) {
-        const int old = atomic_cmpxchg(&keys[h], EMPTY_BODY, body);
-        if (old == EMPTY_BODY || old == body) return (int)h;
+        const int old = atomic_cmpxchg(&keys[h], BTOCL_EMPTY_BODY, body);
+        if (old == BTOCL_EMPTY_BODY || old == body) return (int)h;
         h = (h + 1) & mask;
     }
     return 0;  // unreachable (see above)
 }
 
-__kernel __attribute__((reqd_work_group_size(BATCH_WG, 1, 1)))
+__kernel __attribute__((reqd_work_group_size(BTOCL_BATCH_WG, 1, 1)))
 void batchGroups(__global const btoclConstraint* constraints, __global const int* sorted,
                  __global btoclGroup* groups, int rounds, __global int* solveOrder, __global int* batchEnd) {
-    __local int winIdx[2][BATCH_WINDOW];  // ping-pong window: constraint index
-    __local int winA[2][BATCH_WINDOW];    // its dynamic bodies, or -1
-    __local int winB[2][BATCH_WINDOW];
-    __local int winSlotA[2][BATCH_WINDOW];  // their table slots, or -1
-    __local int winSlotB[2][BATCH_WINDOW];
-    __local int state[BATCH_WINDOW];
-    __local int prio[BATCH_WINDOW];
-    __local int owns[BATCH_WINDOW];  // bit 0/1: this entry's offer is the minimum of slot A/B
-    __local int outBuf[BATCH_WINDOW];
-    __local int tableKey[BATCH_TABLE], tableBest[BATCH_TABLE], tableLocked[BATCH_TABLE];
-    __local int laneScheduled[BATCH_WG], laneRest[BATCH_WG];
+    __local int winIdx[2][BTOCL_BATCH_WINDOW];  // ping-pong window: constraint index
+    __local int winA[2][BTOCL_BATCH_WINDOW];    // its dynamic bodies, or -1
+    __local int winB[2][BTOCL_BATCH_WINDOW];
+    __local int winSlotA[2][BTOCL_BATCH_WINDOW];  // their table slots, or -1
+    __local int winSlotB[2][BTOCL_BATCH_WINDOW];
+    __local int state[BTOCL_BATCH_WINDOW];
+    __local int prio[BTOCL_BATCH_WINDOW];
+    __local int owns[BTOCL_BATCH_WINDOW];  // bit 0/1: this entry's offer is the minimum of slot A/B
+    __local int outBuf[BTOCL_BATCH_WINDOW];
+    __local int tableKey[BTOCL_BATCH_TABLE], tableBest[BTOCL_BATCH_TABLE], tableLocked[BTOCL_BATCH_TABLE];
+    __local int laneScheduled[BTOCL_BATCH_WG], laneRest[BTOCL_BATCH_WG];
     __local int totals[2];
     __local int stillPending[2];  // by round parity: some constraint is pending after the decision
 
     const int lid = get_local_id(0);
     const int gid = get_group_id(0);
     const int offset = groups[gid].offset, count = groups[gid].count;
-    const int myBegin = lid * BATCH_PER_LANE;
+    const int myBegin = lid * BTOCL_BATCH_PER_LANE;
     int cur = 0, winSize = 0, next = 0, emitted = 0, batch = 0;
     // The body table: sized for the group (small groups clear small tables) and kept from batch to
     // batch; rebuilt only when the bodies inserted since the last build could pass half of it.
     int tableBits = 3;
-    while ((1 << tableBits) < 4 * min(count, BATCH_WINDOW)) ++tableBits;
+    while ((1 << tableBits) < 4 * min(count, BTOCL_BATCH_WINDOW)) ++tableBits;
     const int tableSize = 1 << tableBits;
     int tableUsed = 0;
 
     for (;;) {
         // Refill the window's tail from the group, in order.
-        const int add = min(BATCH_WINDOW - winSize, count - next);
-        for (int k = lid; k < add; k += BATCH_WG) {
+        const int add = min(BTOCL_BATCH_WINDOW - winSize, count - next);
+        for (int k = lid; k < add; k += BTOCL_BATCH_WG) {
             const int ci = sorted[offset + next + k];
             winIdx[cur][winSize + k] = ci;
             winA[cur][winSize + k] = constraints[ci].dynamicA ? constraints[ci].bodyA : -1;
@@ -95,25 +95,25 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         // Offers need no clearing between batches: every round ends with each slot's minimum holder
         // resetting it. Locks are stamped with the batch number, so old ones expire by themselves.
         if (rebuild)
-            for (int h = lid; h < tableSize; h += BATCH_WG) {
-                tableKey[h] = EMPTY_BODY;
-                tableBest[h] = NO_OFFER;
+            for (int h = lid; h < tableSize; h += BTOCL_BATCH_WG) {
+                tableKey[h] = BTOCL_EMPTY_BODY;
+                tableBest[h] = BTOCL_NO_OFFER;
                 tableLocked[h] = 0;
             }
         const int stamp = batch + 1;
         barrier(CLK_LOCAL_MEM_FENCE);
         const int firstNew = rebuild ? 0 : winSize - add;
         tableUsed = rebuild ? 2 * winSize : tableUsed + 2 * add;
-        const int myEnd = min(winSize, myBegin + BATCH_PER_LANE);
+        const int myEnd = min(winSize, myBegin + BTOCL_BATCH_PER_LANE);
         for (int e = myBegin; e < myEnd; ++e) {
             if (e >= firstNew) {
                 const int a = winA[cur][e], b = winB[cur][e];
                 winSlotA[cur][e] = a >= 0 ? batchTableSlot(tableKey, tableBits, a) : -1;
                 winSlotB[cur][e] = b >= 0 ? batchTableSlot(tableKey, tableBits, b) : -1;
             }
-            state[e] = ST_PENDING;
+            state[e] = BTOCL_BATCH_PENDING;
             owns[e] = 0;
-            prio[e] = btoclBatchPriority(winIdx[cur][e], e, BATCH_WINDOW_BITS);
+            prio[e] = btoclBatchPriority(winIdx[cur][e], e, BTOCL_BATCH_WINDOW_BITS);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
 
@@ -122,10 +122,10 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
             // last read two barriers ago.
             if (lid == 0) stillPending[r & 1] = 0;
             for (int e = myBegin; e < myEnd; ++e) {
-                if (state[e] != ST_PENDING) continue;
+                if (state[e] != BTOCL_BATCH_PENDING) continue;
                 const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 if ((sa >= 0 && tableLocked[sa] == stamp) || (sb >= 0 && tableLocked[sb] == stamp)) {
-                    state[e] = ST_BLOCKED;
+                    state[e] = BTOCL_BATCH_BLOCKED;
                     continue;
                 }
                 if (sa >= 0) atomic_min(&tableBest[sa], prio[e]);
@@ -134,12 +134,12 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
             barrier(CLK_LOCAL_MEM_FENCE);
             // Decide (offers only read here).
             for (int e = myBegin; e < myEnd; ++e) {
-                if (state[e] != ST_PENDING) continue;
+                if (state[e] != BTOCL_BATCH_PENDING) continue;
                 const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 const bool wonA = sa < 0 || tableBest[sa] == prio[e];
                 const bool wonB = sb < 0 || tableBest[sb] == prio[e];
                 owns[e] = (sa >= 0 && wonA ? 1 : 0) | (sb >= 0 && wonB ? 2 : 0);
-                if (wonA && wonB) state[e] = ST_SCHEDULED;
+                if (wonA && wonB) state[e] = BTOCL_BATCH_SCHEDULED;
                 else atomic_or(&stillPending[r & 1], 1);
             }
             barrier(CLK_LOCAL_MEM_FENCE);
@@ -147,10 +147,10 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
             for (int e = myBegin; e < myEnd; ++e) {
                 const int sa = winSlotA[cur][e], sb = winSlotB[cur][e];
                 const int o = owns[e];
-                if (o & 1) tableBest[sa] = NO_OFFER;
-                if (o & 2) tableBest[sb] = NO_OFFER;
+                if (o & 1) tableBest[sa] = BTOCL_NO_OFFER;
+                if (o & 2) tableBest[sb] = BTOCL_NO_OFFER;
                 owns[e] = 0;
-                if (state[e] == ST_SCHEDULED) {
+                if (state[e] == BTOCL_BATCH_SCHEDULED) {
                     if (sa >= 0) tableLocked[sa] = stamp;
                     if (sb >= 0) tableLocked[sb] = stamp;
                 }
@@ -161,13 +161,13 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
 
         // Output and compaction positions: prefix sums over lanes (lanes own contiguous slices).
         int nScheduled = 0;
-        for (int e = myBegin; e < myEnd; ++e) nScheduled += state[e] == ST_SCHEDULED ? 1 : 0;
+        for (int e = myBegin; e < myEnd; ++e) nScheduled += state[e] == BTOCL_BATCH_SCHEDULED ? 1 : 0;
         laneScheduled[lid] = nScheduled;
         laneRest[lid] = max(0, myEnd - myBegin) - nScheduled;
         barrier(CLK_LOCAL_MEM_FENCE);
         if (lid == 0) {
             int runS = 0, runR = 0;
-            for (int l = 0; l < BATCH_WG; ++l) {
+            for (int l = 0; l < BTOCL_BATCH_WG; ++l) {
                 const int s = laneScheduled[l], r = laneRest[l];
                 laneScheduled[l] = runS;
                 laneRest[l] = runR;
@@ -181,7 +181,7 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         const int nxt = 1 - cur;
         int atS = laneScheduled[lid], atR = laneRest[lid];
         for (int e = myBegin; e < myEnd; ++e) {
-            if (state[e] == ST_SCHEDULED) {
+            if (state[e] == BTOCL_BATCH_SCHEDULED) {
                 outBuf[atS++] = winIdx[cur][e];
             } else {
                 winIdx[nxt][atR] = winIdx[cur][e];
@@ -194,7 +194,7 @@ void batchGroups(__global const btoclConstraint* constraints, __global const int
         }
         barrier(CLK_LOCAL_MEM_FENCE);
         const int totalScheduled = totals[0], totalRest = totals[1];
-        for (int i = lid; i < totalScheduled; i += BATCH_WG) solveOrder[offset + emitted + i] = outBuf[i];
+        for (int i = lid; i < totalScheduled; i += BTOCL_BATCH_WG) solveOrder[offset + emitted + i] = outBuf[i];
         if (lid == 0) batchEnd[offset + batch] = offset + emitted + totalScheduled;
         emitted += totalScheduled;
         ++batch;

@@ -4,8 +4,8 @@
 // resolve only a few links of each chain, leaving batches half full; a hashed order breaks the chains
 // (as in Luby's parallel independent sets) at the same determinism. The window position comes last,
 // so priorities are unique and the smallest pending one always wins.
-#ifndef BT_OCL_BATCH_PRIORITY_H
-#define BT_OCL_BATCH_PRIORITY_H
+#ifndef BTOCL_BATCH_PRIORITY_H
+#define BTOCL_BATCH_PRIORITY_H
 
 // windowBits: bits of a window position (window <= 2^windowBits); the result is below 2^30.
 static inline int btoclBatchPriority(int constraintIndex, int windowPos, int windowBits) {

@@ -2,7 +2,7 @@
 // friction rows and the rolling/spinning rows, set up as btSequentialImpulseConstraintSolver's
 // setupContactConstraint, setupFrictionConstraint and setupTorsionalFrictionConstraint do.
 // Host reference: StepProblemBuilder's host setup (bullet_plugin/StepProblem.cpp).
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 inline float4 cross3(float4 a, float4 b) {
     return (float4)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
@@ -67,8 +67,8 @@ void frictionRow(__global btoclRow* rows, __global float* applied, __global floa
     const float4 n2 = hasB ? -axis : zero;
     const float4 rp2 = hasB ? cross3(relPos2, n2) : zero;
     const float4 angB = hasB ? angularComponent(B, rp2) : zero;
-    const float denom0 = hasA ? A->linearFactor.w + dot3s(axis, cross3(angA, relPos1)) : 0.0f;
-    const float denom1 = hasB ? B->linearFactor.w + dot3s(axis, cross3(-angB, relPos2)) : 0.0f;
+    const float denom0 = hasA ? BTOCL_BODY_INV_MASS(*A) + dot3s(axis, cross3(angA, relPos1)) : 0.0f;
+    const float denom1 = hasB ? BTOCL_BODY_INV_MASS(*B) + dot3s(axis, cross3(-angB, relPos2)) : 0.0f;
     const float jac = prm.sor / (denom0 + denom1);
     const float vel1Dotn = dot3s(n1, hasA ? A->linearVelocity + A->externalForceImpulse : zero) +
                            dot3s(rp1, hasA ? A->angularVelocity : zero);
@@ -80,7 +80,7 @@ void frictionRow(__global btoclRow* rows, __global float* applied, __global floa
         const float distance = dot3s(xyz(pt->positionOnA) - xyz(pt->positionOnB), axis);
         penetrationImpulse = (-distance * prm.frictionERP / prm.timeStep) * jac;
     }
-    const float friction = pt->positionOnB.w;
+    const float friction = BTOCL_POINT_FRICTION(*pt);
     storeRow(rows, applied, pushApplied, index, n1, rp1, n2, rp2, angA, angB, penetrationImpulse + velocityImpulse, 0.0f, cfmSlip, jac, -friction,
              friction, 0.0f, friction, pt->bodyA, pt->bodyB, pointIndex);
 }
@@ -111,8 +111,8 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const btoclContactPoint pt = points[i];
     const btoclBody A = bodies[pt.bodyA];
     const btoclBody B = bodies[pt.bodyB];
-    const int hasA = A.angularFactor.w != 0.0f;
-    const int hasB = B.angularFactor.w != 0.0f;
+    const int hasA = BTOCL_BODY_IS_RIGID(A) != 0.0f;
+    const int hasB = BTOCL_BODY_IS_RIGID(B) != 0.0f;
     const float4 zero = (float4)(0.0f);
     const float4 n = xyz(pt.normalOnB);
     const float4 relPos1 = xyz(pt.positionOnA) - xyz(A.centerOfMass);
@@ -131,36 +131,36 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     float cfm = prm.globalCfm;
     float erp = prm.erp2;
     if (pt.flags & (BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM | BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP)) {
-        if (pt.flags & BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM) cfm = pt.contactCfmErp.x;
-        if (pt.flags & BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP) erp = pt.contactCfmErp.y;
+        if (pt.flags & BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM) cfm = BTOCL_POINT_CONTACT_CFM(pt);
+        if (pt.flags & BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP) erp = BTOCL_POINT_CONTACT_ERP(pt);
     } else if (pt.flags & BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING) {
-        float denom = prm.timeStep * pt.contactCfmErp.z + pt.contactCfmErp.w;
+        float denom = prm.timeStep * BTOCL_POINT_STIFFNESS(pt) + BTOCL_POINT_DAMPING(pt);
         if (denom < FLT_EPSILON) denom = FLT_EPSILON;
         cfm = 1.0f / denom;
-        erp = (prm.timeStep * pt.contactCfmErp.z) / denom;
+        erp = (prm.timeStep * BTOCL_POINT_STIFFNESS(pt)) / denom;
     }
     cfm *= prm.invTimeStep;
     const float4 torqueAxis0 = cross3(relPos1, n);
     const float4 torqueAxis1 = cross3(relPos2, n);
     const float4 angA = hasA ? angularComponent(&A, torqueAxis0) : zero;
     const float4 angB = hasB ? angularComponent(&B, -torqueAxis1) : zero;
-    const float denom0 = hasA ? A.linearFactor.w + dot3s(n, cross3(angA, relPos1)) : 0.0f;
-    const float denom1 = hasB ? B.linearFactor.w + dot3s(n, cross3(-angB, relPos2)) : 0.0f;
+    const float denom0 = hasA ? BTOCL_BODY_INV_MASS(A) + dot3s(n, cross3(angA, relPos1)) : 0.0f;
+    const float denom1 = hasB ? BTOCL_BODY_INV_MASS(B) + dot3s(n, cross3(-angB, relPos2)) : 0.0f;
     const float jac = prm.sor / (denom0 + denom1 + cfm);
     const float4 n1 = hasA ? n : zero;
     const float4 rp1 = hasA ? torqueAxis0 : zero;
     const float4 n2 = hasB ? -n : zero;
     const float4 rp2 = hasB ? -torqueAxis1 : zero;
-    const float penetration = pt.positionOnA.w + prm.linearSlop;
+    const float penetration = BTOCL_POINT_DISTANCE(pt) + prm.linearSlop;
     float restitution = 0.0f;
     {
         const float4 v1 = hasA ? xyz(A.linearVelocity) + cross3(A.angularVelocity, relPos1) : zero;
         const float4 v2 = hasB ? xyz(B.linearVelocity) + cross3(B.angularVelocity, relPos2) : zero;
         const float rv = dot3s(n, v1 - v2);
-        if (fabs(rv) >= prm.restitutionVelocityThreshold) restitution = pt.normalOnB.w * -rv;
+        if (fabs(rv) >= prm.restitutionVelocityThreshold) restitution = BTOCL_POINT_RESTITUTION(pt) * -rv;
         if (restitution <= 0.0f) restitution = 0.0f;
     }
-    const float warmStart = (prm.solverMode & BTOCL_SOLVER_USE_WARMSTARTING) ? pt.impulseFriction.x * prm.warmstartingFactor : 0.0f;
+    const float warmStart = (prm.solverMode & BTOCL_SOLVER_USE_WARMSTARTING) ? BTOCL_POINT_APPLIED(pt) * prm.warmstartingFactor : 0.0f;
     const float vel1Dotn = dot3s(n1, A.linearVelocity + (hasA ? A.externalForceImpulse : zero)) +
                            dot3s(rp1, A.angularVelocity + (hasA ? A.externalTorqueImpulse : zero));
     const float vel2Dotn = dot3s(n2, B.linearVelocity + (hasB ? B.externalForceImpulse : zero)) +
@@ -180,7 +180,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         // Most steps have no point this deep: the host then launches no split-impulse pass.
         if (rhsPenetration != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PENETRATION, 1);
     }
-    const float friction = pt.positionOnB.w;
+    const float friction = BTOCL_POINT_FRICTION(pt);
     const int normalRow = rowMap[i];
     storeRow(rows, applied, pushApplied, normalRow, n1, rp1, n2, rp2, angA, angB, rhs, rhsPenetration, cfm * jac, jac, 0.0f, 1e10f, warmStart,
              friction, pt.bodyA, pt.bodyB, -1);
@@ -191,11 +191,11 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         planeSpace(n, &axis0, &axis1);
         axis0 = normalize(axis0);
         axis1 = normalize(axis1);
-        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow], n, &A, &B, hasA, hasB, pt.impulseFriction.z, pt.bodyA, pt.bodyB,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow], n, &A, &B, hasA, hasB, BTOCL_POINT_SPINNING_FRICTION(pt), pt.bodyA, pt.bodyB,
                      normalRow);
-        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 1], axis0, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 1], axis0, &A, &B, hasA, hasB, BTOCL_POINT_ROLLING_FRICTION(pt), pt.bodyA,
                      pt.bodyB, normalRow);
-        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 2], axis1, &A, &B, hasA, hasB, pt.impulseFriction.y, pt.bodyA,
+        torsionalRow(rows, applied, pushApplied, rowMap[pt.firstRollingRow + 2], axis1, &A, &B, hasA, hasB, BTOCL_POINT_ROLLING_FRICTION(pt), pt.bodyA,
                      pt.bodyB, normalRow);
     }
 
@@ -216,9 +216,9 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         lateralDirs[2 * i] = dir1;
         lateralDirs[2 * i + 1] = dir2;
     } else {
-        motion1 = pt.lateralDir1.w;
-        motion2 = pt.lateralDir2.w;
-        cfmSlip = pt.impulseFriction.w;
+        motion1 = BTOCL_POINT_MOTION1(pt);
+        motion2 = BTOCL_POINT_MOTION2(pt);
+        cfmSlip = BTOCL_POINT_FRICTION_CFM(pt);
     }
     frictionRow(rows, applied, pushApplied, rowMap[pt.firstFrictionRow], dir1, &A, &B, hasA, hasB, relPos1, relPos2, &pt, prm, motion1,
                 cfmSlip, normalRow);

@@ -3,7 +3,7 @@
 // order; constraints of a batch share no dynamic body, so its lanes run without conflicts, and
 // groups of one set share none either. The row update is btSequentialImpulseConstraintSolver's.
 // One kernel per pass, so that the compiler folds the pass's branches away.
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
@@ -26,7 +26,7 @@ inline SolveBody loadBody(__global const btoclBody* b, __global const btoclBodyD
 }
 
 inline void storeBody(const SolveBody* s, __global btoclBodyDelta* d, int push) {
-    if (s->invMass.w == 0.0f) return;  // static and kinematic bodies never change
+    if (BTOCL_BODY_IS_DYNAMIC(*s) == 0.0f) return;  // static and kinematic bodies never change
     if (push) {
         d->pushVelocity = s->linear;
         d->turnVelocity = s->angular;
@@ -38,7 +38,7 @@ inline void storeBody(const SolveBody* s, __global btoclBodyDelta* d, int push) 
 
 // Adds an impulse to a body's velocity change (btSolverBody::internalApplyImpulse).
 inline void applyImpulse(SolveBody* s, float4 linear, float4 angular, float impulse, int applyFactors) {
-    if (s->invMass.w == 0.0f) return;
+    if (BTOCL_BODY_IS_DYNAMIC(*s) == 0.0f) return;
     float4 dl = linear * impulse;
     float4 da = angular * impulse;
     if (applyFactors) {
@@ -54,10 +54,10 @@ inline void applyImpulse(SolveBody* s, float4 linear, float4 angular, float impu
 // cache line.
 inline float solveRow(__global const btoclRow* row, __global float* appliedImpulse, SolveBody* A, SolveBody* B,
                       float lower, float upper, int applyFactors, int push) {
-    const float jacDiagABInv = row->relpos2CrossNormal.w;
-    const float cfm = row->contactNormal2.w;
+    const float jacDiagABInv = BTOCL_ROW_JAC_DIAG_INV(*row);
+    const float cfm = BTOCL_ROW_CFM(*row);
     const float applied = *appliedImpulse;
-    const float rhs = push ? row->relpos1CrossNormal.w : row->contactNormal1.w;
+    const float rhs = push ? BTOCL_ROW_RHS_PENETRATION(*row) : BTOCL_ROW_RHS(*row);
     float deltaImpulse = rhs - applied * cfm;
     const float deltaVel1Dotn = dot3(row->contactNormal1, A->linear) + dot3(row->relpos1CrossNormal, A->angular);
     const float deltaVel2Dotn = dot3(row->contactNormal2, B->linear) + dot3(row->relpos2CrossNormal, B->angular);
@@ -86,8 +86,8 @@ inline float solveFrictionRows(__global const btoclConstraint* c, int kind, __gl
         __global const btoclRow* row = rows + r;
         const float total = applied[row->frictionIndex];
         if (!(total > 0.0f)) continue;
-        float limit = row->impulses.z * total;
-        if (kind == BTOCL_PASS_ROLLING && limit > row->impulses.z) limit = row->impulses.z;
+        float limit = BTOCL_ROW_FRICTION(*row) * total;
+        if (kind == BTOCL_ROWS_ROLLING && limit > BTOCL_ROW_FRICTION(*row)) limit = BTOCL_ROW_FRICTION(*row);
         const float residual = solveRow(row, applied + r, A, B, -limit, limit, applyFactors, 0);
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
@@ -103,8 +103,8 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global con
     SolveBody A = loadBody(bodies + c->bodyA, deltas + c->bodyA, push);
     SolveBody B = loadBody(bodies + c->bodyB, deltas + c->bodyB, push);
     float maxResidual2 = 0.0f;
-    const int first = c->firstRow[BTOCL_PASS_NORMAL];
-    const int end = first + c->numRows[BTOCL_PASS_NORMAL];
+    const int first = c->firstRow[BTOCL_ROWS_NORMAL];
+    const int end = first + c->numRows[BTOCL_ROWS_NORMAL];
     for (int r = first; r < end; ++r) {
         __global const btoclRow* row = rows + r;
         float residual = 0.0f;
@@ -115,18 +115,18 @@ inline float solveConstraintPass(__global const btoclConstraint* c, __global con
             applyImpulse(&B, row->contactNormal2 * B.invMass, row->angularComponentB, start, 1);
             continue;
         } else if (pass == BTOCL_PASS_PENETRATION) {
-            if (row->relpos1CrossNormal.w == 0.0f) continue;  // no split-impulse share
-            residual = solveRow(row, pushApplied + r, &A, &B, row->angularComponentA.w, FLT_MAX, applyFactors, 1);
+            if (BTOCL_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
+            residual = solveRow(row, pushApplied + r, &A, &B, BTOCL_ROW_LOWER(*row), FLT_MAX, applyFactors, 1);
         } else {
-            residual = solveRow(row, applied + r, &A, &B, row->angularComponentA.w, FLT_MAX, applyFactors, 0);
+            residual = solveRow(row, applied + r, &A, &B, BTOCL_ROW_LOWER(*row), FLT_MAX, applyFactors, 0);
         }
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
     if (pass == BTOCL_PASS_VELOCITY) {
         // Friction right after the constraint's normal rows: one sweep per iteration, the two
         // bodies read and written once (measured: the solve 2.4x faster than three passes).
-        maxResidual2 = fmax(maxResidual2, solveFrictionRows(c, BTOCL_PASS_FRICTION, rows, applied, &A, &B, applyFactors));
-        maxResidual2 = fmax(maxResidual2, solveFrictionRows(c, BTOCL_PASS_ROLLING, rows, applied, &A, &B, applyFactors));
+        maxResidual2 = fmax(maxResidual2, solveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors));
+        maxResidual2 = fmax(maxResidual2, solveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, applied, &A, &B, applyFactors));
     }
     storeBody(&A, deltas + c->bodyA, push);
     storeBody(&B, deltas + c->bodyB, push);

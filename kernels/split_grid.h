@@ -1,10 +1,10 @@
 // The grid of the global split, shared word for word by the host reference (C++) and the device
 // (OpenCL C), so that both put every constraint into the same cell, bit for bit: the same float
 // operations in the same order, no division on the per-constraint path, no a*b+c to contract.
-#ifndef BT_OCL_SPLIT_GRID_H
-#define BT_OCL_SPLIT_GRID_H
+#ifndef BTOCL_SPLIT_GRID_H
+#define BTOCL_SPLIT_GRID_H
 
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 #ifndef __OPENCL_VERSION__
 #include <math.h>  // the float overloads of floor, fmin, fmax in the global namespace

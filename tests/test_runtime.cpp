@@ -2,7 +2,7 @@
 #include "OclRuntime.h"
 #include "DeviceBuffer.h"
 #include "btOpenCLConstraintSolver.h"
-#include "btOclShared.h"
+#include "btocl_shared.h"
 
 #include <catch2/catch.hpp>
 
@@ -70,7 +70,7 @@ TEST_CASE("devices are chosen by type, index and name", "[runtime]") {
 
 TEST_CASE("host and kernels agree on the layout of the shared structs", "[runtime]") {
     OclRuntime rt("");
-    const std::string src = "#include \"btOclShared.h\"\n"
+    const std::string src = "#include \"btocl_shared.h\"\n"
                             "__kernel void sizes(__global int* out) { out[0] = sizeof(btoclRow);"
                             " out[1] = sizeof(btoclBody); out[2] = sizeof(btoclConstraint);"
                             " out[3] = sizeof(btoclBodyDelta); out[4] = sizeof(btoclGroup); }";

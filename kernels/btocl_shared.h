@@ -1,8 +1,8 @@
 // Structs that the host and the kernels both read. Included by OpenCL C programs (with the
 // kernels' own float4/int) and by C++ (with the mirror types below): the layouts must match,
 // so only 4-byte scalars and 16-byte float4s, float4s first, sizes multiples of 16.
-#ifndef BT_OCL_SHARED_H
-#define BT_OCL_SHARED_H
+#ifndef BTOCL_SHARED_H
+#define BTOCL_SHARED_H
 
 #ifdef __OPENCL_VERSION__
 typedef float4 btoclFloat4;
@@ -18,26 +18,21 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_NUM_SETS 4
 #define BTOCL_OVERFLOW_SET 4
 
-// Row kinds: a constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
-#define BTOCL_PASS_JOINT 0
-#define BTOCL_PASS_NORMAL 1
-#define BTOCL_PASS_FRICTION 2
-#define BTOCL_PASS_ROLLING 3
-#define BTOCL_NUM_PASSES 4
-// The passes of a step, over all constraints, set after set:
+// Kinds of rows. A constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
+enum { BTOCL_ROWS_JOINT, BTOCL_ROWS_NORMAL, BTOCL_ROWS_FRICTION, BTOCL_ROWS_ROLLING, BTOCL_NUM_ROW_KINDS };
+
+// The passes of a step, each a launch per set over all constraints:
 // warm start: the normal rows' starting impulses applied to the bodies (rows set up on the device);
-// split-impulse penetration: the normal rows again, on push and turn velocities;
+// penetration: the normal rows again, on push and turn velocities (split impulse);
 // velocity: per constraint its normal rows, then its friction rows, then its rolling rows (SI
 // visits all normal rows, then all friction rows: an order change, see README).
-#define BTOCL_PASS_PENETRATION 4
-#define BTOCL_PASS_WARMSTART 5
-#define BTOCL_PASS_VELOCITY 6
+enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_VELOCITY, BTOCL_NUM_PASSES };
 
-// Solver flags (btoclSolveParams.flags).
+// Flags of the solve kernels (SolveSettings::flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
 
-// Bullet's flags that row setup reads (checked against Bullet's own values in StepProblem.cpp).
+// Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/BulletGather.cpp).
 #define BTOCL_SOLVER_USE_WARMSTARTING 4
 #define BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS 16
 #define BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING 32
@@ -57,6 +52,9 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_CONTROL_HAS_PENETRATION 5  // some row has a split-impulse share (rhsPenetration != 0)
 #define BTOCL_CONTROL_SIZE 8
 
+// Scalars are packed into the w lanes of float4 fields (a record stays a whole number of 16-byte
+// lines). Each lane has one name, below its record; use the names, never `.w`.
+
 // One body as the solver sees it (btSolverBody). Static bodies: invMass 0, inertia 0.
 typedef struct {
     btoclFloat4 invMass;          // xyz: inverse mass times linear factor; w: 1 if dynamic else 0
@@ -71,6 +69,9 @@ typedef struct {
     btoclFloat4 externalForceImpulse;   // xyz: gravity and forces times dt/mass
     btoclFloat4 externalTorqueImpulse;  // xyz
 } btoclBody;
+#define BTOCL_BODY_IS_DYNAMIC(b) ((b).invMass.w)        // 1 if dynamic, else 0
+#define BTOCL_BODY_INV_MASS(b) ((b).linearFactor.w)     // scalar inverse mass
+#define BTOCL_BODY_IS_RIGID(b) ((b).angularFactor.w)    // 1 for a rigid body, 0 for the fixed body
 
 // What a step changes of a body; written by the solve, read back by the host.
 typedef struct {
@@ -80,35 +81,57 @@ typedef struct {
     btoclFloat4 turnVelocity;
 } btoclBodyDelta;
 
-// One constraint row (btSolverConstraint). Scalars live in the w lanes of the vectors.
+// One constraint row (btSolverConstraint).
 typedef struct {
-    btoclFloat4 contactNormal1;      // w: rhs
-    btoclFloat4 relpos1CrossNormal;  // w: rhsPenetration
-    btoclFloat4 contactNormal2;      // w: cfm
-    btoclFloat4 relpos2CrossNormal;  // w: jacDiagABInv
-    btoclFloat4 angularComponentA;   // w: lowerLimit
-    btoclFloat4 angularComponentB;   // w: upperLimit
-    btoclFloat4 impulses;            // x: appliedImpulse, y: appliedPushImpulse, z: friction, w: unused
+    btoclFloat4 contactNormal1;      // xyz; w: rhs
+    btoclFloat4 relpos1CrossNormal;  // xyz; w: rhsPenetration
+    btoclFloat4 contactNormal2;      // xyz; w: cfm
+    btoclFloat4 relpos2CrossNormal;  // xyz; w: jacDiagABInv
+    btoclFloat4 angularComponentA;   // xyz; w: lowerLimit
+    btoclFloat4 angularComponentB;   // xyz; w: upperLimit
+    btoclFloat4 impulses;            // the four lanes named below
     int bodyA, bodyB;                // indices into the body arrays
     int frictionIndex;               // friction rows: index of their normal row
     int flags;
 } btoclRow;
+#define BTOCL_ROW_RHS(r) ((r).contactNormal1.w)
+#define BTOCL_ROW_RHS_PENETRATION(r) ((r).relpos1CrossNormal.w)  // split impulse's share; 0: none
+#define BTOCL_ROW_CFM(r) ((r).contactNormal2.w)
+#define BTOCL_ROW_JAC_DIAG_INV(r) ((r).relpos2CrossNormal.w)     // jacDiagABInv
+#define BTOCL_ROW_LOWER(r) ((r).angularComponentA.w)
+#define BTOCL_ROW_UPPER(r) ((r).angularComponentB.w)
+#define BTOCL_ROW_APPLIED(r) ((r).impulses.x)        // appliedImpulse (host-built rows; the solve
+#define BTOCL_ROW_APPLIED_PUSH(r) ((r).impulses.y)   // keeps live impulses in compact arrays)
+#define BTOCL_ROW_FRICTION(r) ((r).impulses.z)       // friction coefficient of friction rows
 
 // One btManifoldPoint, as the row setup kernel reads it. Its normal row has the point's index.
 typedef struct {
-    btoclFloat4 positionOnA;     // w: distance
-    btoclFloat4 positionOnB;     // w: combined friction
-    btoclFloat4 normalOnB;       // w: combined restitution
-    btoclFloat4 lateralDir1;     // cached friction direction; w: contact motion 1
-    btoclFloat4 lateralDir2;     // w: contact motion 2
-    btoclFloat4 impulseFriction; // x: applied impulse (warm start), y: rolling, z: spinning friction, w: friction CFM
-    btoclFloat4 contactCfmErp;   // x: contact CFM, y: contact ERP, z: stiffness, w: damping
+    btoclFloat4 positionOnA;     // xyz; w: distance
+    btoclFloat4 positionOnB;     // xyz; w: combined friction
+    btoclFloat4 normalOnB;       // xyz; w: combined restitution
+    btoclFloat4 lateralDir1;     // xyz: cached friction direction; w: contact motion 1
+    btoclFloat4 lateralDir2;     // xyz; w: contact motion 2
+    btoclFloat4 impulseFriction; // the four lanes named below
+    btoclFloat4 contactCfmErp;   // the four lanes named below
     int bodyA, bodyB;
     int flags;                   // btManifoldPoint::m_contactPointFlags
     int firstFrictionRow;        // friction rows: 1 or 2 from here
     int firstRollingRow;         // -1, or 3 rolling/spinning rows from here
     int pad0, pad1, pad2;
 } btoclContactPoint;
+#define BTOCL_POINT_DISTANCE(p) ((p).positionOnA.w)
+#define BTOCL_POINT_FRICTION(p) ((p).positionOnB.w)
+#define BTOCL_POINT_RESTITUTION(p) ((p).normalOnB.w)
+#define BTOCL_POINT_MOTION1(p) ((p).lateralDir1.w)
+#define BTOCL_POINT_MOTION2(p) ((p).lateralDir2.w)
+#define BTOCL_POINT_APPLIED(p) ((p).impulseFriction.x)          // m_appliedImpulse (warm start)
+#define BTOCL_POINT_ROLLING_FRICTION(p) ((p).impulseFriction.y)
+#define BTOCL_POINT_SPINNING_FRICTION(p) ((p).impulseFriction.z)
+#define BTOCL_POINT_FRICTION_CFM(p) ((p).impulseFriction.w)
+#define BTOCL_POINT_CONTACT_CFM(p) ((p).contactCfmErp.x)
+#define BTOCL_POINT_CONTACT_ERP(p) ((p).contactCfmErp.y)
+#define BTOCL_POINT_STIFFNESS(p) ((p).contactCfmErp.z)
+#define BTOCL_POINT_DAMPING(p) ((p).contactCfmErp.w)
 
 // The btContactSolverInfo values that row setup reads.
 typedef struct {
@@ -120,13 +143,13 @@ typedef struct {
 } btoclSetupParams;
 
 // The unit of batching: the rows of one body pair (a contact manifold, later a joint).
-// Its rows of each pass are contiguous: rows [firstRow[p], firstRow[p] + numRows[p]).
+// Its rows of each kind k are contiguous: rows [firstRow[k], firstRow[k] + numRows[k]).
 typedef struct {
     btoclFloat4 position;  // xyz: a point of the constraint (contact point) for the global split
-    int bodyA, bodyB;      // body indices; bodies with invMass.w == 0 never lock
+    int bodyA, bodyB;      // body indices; only dynamic ones lock
     int dynamicA, dynamicB;
-    int firstRow[BTOCL_NUM_PASSES];
-    int numRows[BTOCL_NUM_PASSES];
+    int firstRow[BTOCL_NUM_ROW_KINDS];  // by BTOCL_ROWS_*
+    int numRows[BTOCL_NUM_ROW_KINDS];
 } btoclConstraint;
 
 // A constraint group: one cell's constraints, ordered by batch, as a slice of the solve order.
