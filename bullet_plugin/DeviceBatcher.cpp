@@ -1,5 +1,6 @@
 #include "DeviceBatcher.h"
 
+#include "batch_priority.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <algorithm>
@@ -69,7 +70,7 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
     p.window = windowSize(wg);
     const std::string options = "-DBTOCL_BATCH_WG=" + std::to_string(wg) + " -DBTOCL_BATCH_WINDOW=" + std::to_string(p.window) +
                                 " -DBTOCL_BATCH_TABLE_BITS=" + std::to_string(tableBitsFor(p.window)) +
-                                " -DBTOCL_BATCH_WINDOW_BITS=" + std::to_string(batchWindowBits(p.window));
+                                " -DBTOCL_BATCH_WINDOW_BITS=" + std::to_string(btoclBatchWindowBits(p.window));
     p.program = m_rt.buildProgramFile("batch.cl", options);
     p.kernel = m_rt.makeKernel(p.program, "batchGroups");
     return m_batchPrograms.emplace(wg, std::move(p)).first->second;

@@ -1,12 +1,14 @@
 // Global split and local batch creation on the device (kernels/split.cl, kernels/batch.cl).
-// The output equals buildBatchesHostStreamed(constraints, bodies, params,
-// windowSize(params.workGroupSize)) bit for bit (tests/test_batching.cpp checks it).
+// The output equals the serial reference buildBatchesHostStreamed(constraints, bodies, params,
+// windowSize(params.workGroupSize)) bit for bit (reference/HostBatching.h; tests/test_batching.cpp).
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "BatchLayout.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "OclRuntime.h"
+#include "SplitPlan.h"
+#include "split_grid.h"
 
 #include <array>
 #include <map>

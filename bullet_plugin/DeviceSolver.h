@@ -4,7 +4,7 @@
 // applied impulses. Buffers are kept and grown from step to step.
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "BatchLayout.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "SolveSettings.h"

@@ -3,7 +3,7 @@
 // inside each manifold), in the flat layout that the kernels read.
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "SplitPlan.h"
 #include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>

@@ -1,6 +1,6 @@
 #include "btOpenCLConstraintSolver.h"
 
-#include "ConstraintBatches.h"
+#include "LayoutValidator.h"
 #include "DeviceBatcher.h"
 #include "DeviceSolver.h"
 #include "OclRuntime.h"

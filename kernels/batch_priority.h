@@ -18,4 +18,11 @@ static inline int btoclBatchPriority(int constraintIndex, int windowPos, int win
     return (int)(((h >> (windowBits + 2)) << windowBits) | (unsigned int)windowPos);
 }
 
+// Bits of a window position: the smallest b with windowSize <= 2^b.
+static inline int btoclBatchWindowBits(int windowSize) {
+    int bits = 0;
+    while ((1 << bits) < windowSize) ++bits;
+    return bits;
+}
+
 #endif

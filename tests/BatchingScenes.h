@@ -3,7 +3,7 @@
 // ground everywhere. Deterministic for a given seed.
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "HostBatching.h"
 
 #include <algorithm>
 #include <cmath>

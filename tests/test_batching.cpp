@@ -1,7 +1,8 @@
 // Global split and local batching: the device against its serial host twin (bitwise), the
 // invariants of DESIGN §5 on every layout, batch quality against greedy colouring, determinism.
 #include "BatchingScenes.h"
-#include "ConstraintBatches.h"
+#include "HostBatching.h"
+#include "LayoutValidator.h"
 #include "DeviceBatcher.h"
 #include "btOpenCLConstraintSolver.h"
 

@@ -3,7 +3,7 @@
 // to hold the device rows and iterations to SI's own operation order.
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "BatchLayout.h"
 
 namespace btocl {
 

@@ -2,7 +2,7 @@
 // batches, one constraint after another. The tests compare the device solve with it.
 #pragma once
 
-#include "ConstraintBatches.h"
+#include "BatchLayout.h"
 #include "SolveSettings.h"
 #include "StepProblem.h"
 

@@ -1,5 +1,5 @@
-// Serial host reference of the global split and local batching, and the layout validator.
-#include "ConstraintBatches.h"
+// Serial host references of the global split and the local batching (tests only).
+#include "HostBatching.h"
 
 #include "batch_priority.h"
 #include "btOpenCLConstraintSolver.h"
@@ -7,20 +7,11 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
 namespace btocl {
 namespace {
-
-// A contact point lies within its body's AABB grown by the contact margin; 10% more covers the
-// AABB being a step old and float rounding far from the origin.
-constexpr float kRelativeMargin = 1.1f;
-// A dynamic body more than this many times the median dynamic extent goes to the overflow group.
-constexpr float kOverflowFactor = 4.0f;
-
-float contactSpan(float extent, const SplitParams& params) { return extent * kRelativeMargin + params.contactMargin; }
 
 void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
     if (body < 0 || size_t(body) >= numBodies)
@@ -32,11 +23,6 @@ void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
 // Each group's constraints reordered by batch; batch k of the group ends at batchEnd[offset + k].
 using GroupBatcher = void (*)(const std::vector<btoclConstraint>&, BatchLayout&, btoclGroup&, const SplitParams&, int);
 
-int dynBody(const btoclConstraint& c, int side) {
-    if (side == 0) return c.dynamicA ? c.bodyA : -1;
-    return c.dynamicB ? c.bodyB : -1;
-}
-
 void batchGroupGreedy(const std::vector<btoclConstraint>& constraints, BatchLayout& layout, btoclGroup& g,
                       const SplitParams&, int) {
     int* order = layout.solveOrder.data() + g.offset;
@@ -46,7 +32,7 @@ void batchGroupGreedy(const std::vector<btoclConstraint>& constraints, BatchLayo
     int numBatches = 0;
     for (int i = 0; i < g.count; ++i) {
         const btoclConstraint& c = constraints[size_t(order[i])];
-        const int a = dynBody(c, 0), b = dynBody(c, 1);
+        const int a = dynamicBodyOf(c, 0), b = dynamicBodyOf(c, 1);
         std::vector<char>* ua = a >= 0 ? &used[a] : nullptr;
         std::vector<char>* ub = b >= 0 ? &used[b] : nullptr;
         int k = 0;
@@ -85,7 +71,7 @@ void batchGroupStreamed(const std::vector<btoclConstraint>& constraints, BatchLa
     std::vector<int> window;
     int next = 0, emitted = 0, batch = 0;
     enum { kPending, kBlocked, kScheduled };
-    const int windowBits = batchWindowBits(windowSize);
+    const int windowBits = btoclBatchWindowBits(windowSize);
     while (true) {
         while (int(window.size()) < windowSize && next < g.count) window.push_back(stream[size_t(next++)]);
         if (window.empty()) break;
@@ -97,7 +83,7 @@ void batchGroupStreamed(const std::vector<btoclConstraint>& constraints, BatchLa
             for (int e = 0; e < w; ++e) {
                 if (state[size_t(e)] != kPending) continue;
                 const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
-                const int a = dynBody(c, 0), b = dynBody(c, 1);
+                const int a = dynamicBodyOf(c, 0), b = dynamicBodyOf(c, 1);
                 if ((a >= 0 && locked.count(a)) || (b >= 0 && locked.count(b))) {
                     state[size_t(e)] = kBlocked;
                     continue;
@@ -113,14 +99,14 @@ void batchGroupStreamed(const std::vector<btoclConstraint>& constraints, BatchLa
             for (int e = 0; e < w; ++e) {
                 if (state[size_t(e)] != kPending) continue;
                 const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
-                const int a = dynBody(c, 0), b = dynBody(c, 1);
+                const int a = dynamicBodyOf(c, 0), b = dynamicBodyOf(c, 1);
                 const int priority = btoclBatchPriority(window[size_t(e)], e, windowBits);
                 if ((a < 0 || best[a] == priority) && (b < 0 || best[b] == priority)) wonNow.push_back(e);
             }
             for (int e : wonNow) {
                 state[size_t(e)] = kScheduled;
                 const btoclConstraint& c = constraints[size_t(window[size_t(e)])];
-                for (int body : {dynBody(c, 0), dynBody(c, 1)})
+                for (int body : {dynamicBodyOf(c, 0), dynamicBodyOf(c, 1)})
                     if (body >= 0) locked.insert(body);
             }
         }
@@ -147,42 +133,6 @@ BatchLayout buildWith(const std::vector<btoclConstraint>& constraints, const std
 }
 
 }  // namespace
-
-int batchWindowBits(int windowSize) {
-    int bits = 0;
-    while ((1 << bits) < windowSize) ++bits;
-    return bits;
-}
-
-SplitBodiesPlan planSplitBodies(const std::vector<SplitBody>& bodies, const SplitParams& params) {
-    SplitBodiesPlan plan;
-    plan.overflowBody.assign(bodies.size(), 0);
-    if (params.cellSize < 0 || !std::isfinite(params.cellSize))
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive finite length");
-    if (params.cellSize > 0) {
-        plan.baseCellSize = params.cellSize;
-        for (size_t i = 0; i < bodies.size(); ++i)
-            plan.overflowBody[i] = bodies[i].dynamic && contactSpan(bodies[i].extent, params) > params.cellSize;
-        return plan;
-    }
-    std::vector<float> extents;
-    for (const SplitBody& b : bodies)
-        if (b.dynamic) extents.push_back(b.extent);
-    if (extents.empty()) return plan;
-    auto mid = extents.begin() + std::ptrdiff_t(extents.size() / 2);
-    std::nth_element(extents.begin(), mid, extents.end());
-    const float limit = kOverflowFactor * *mid;
-    float cell = 0;
-    for (size_t i = 0; i < bodies.size(); ++i) {
-        if (!bodies[i].dynamic) continue;
-        if (limit > 0 && bodies[i].extent > limit)
-            plan.overflowBody[i] = 1;
-        else
-            cell = std::max(cell, contactSpan(bodies[i].extent, params));
-    }
-    plan.baseCellSize = cell;
-    return plan;
-}
 
 int splitKeyOfConstraint(const btoclConstraint& c, const btoclSplitGrid& g, const std::vector<unsigned char>& overflowBody) {
     const int nb = int(overflowBody.size());
@@ -262,104 +212,6 @@ int greedyBatchCount(const std::vector<btoclConstraint>& constraints, const int*
     btoclGroup g{0, count, 0, 0};
     batchGroupGreedy(constraints, scratch, g, SplitParams{}, 0);
     return g.numBatches;
-}
-
-std::string validateBatchLayout(const BatchLayout& layout, const std::vector<btoclConstraint>& constraints) {
-    std::ostringstream err;
-    const int n = int(constraints.size());
-    if (int(layout.solveOrder.size()) != n) {
-        err << "solveOrder holds " << layout.solveOrder.size() << " entries for " << n << " constraints";
-        return err.str();
-    }
-    std::vector<char> seen(size_t(n), 0);
-    for (int i = 0; i < n; ++i) {
-        const int c = layout.solveOrder[size_t(i)];
-        if (c < 0 || c >= n) {
-            err << "solveOrder[" << i << "] = " << c << " is not a constraint index";
-            return err.str();
-        }
-        if (seen[size_t(c)]++) {
-            err << "constraint " << c << " appears twice in solveOrder (again at " << i << ")";
-            return err.str();
-        }
-    }
-    const auto& sgs = layout.setGroupStart;
-    if (sgs[0] != 0 || sgs[BTOCL_NUM_SETS + 1] != int(layout.groups.size())) {
-        err << "setGroupStart runs from " << sgs[0] << " to " << sgs[BTOCL_NUM_SETS + 1] << " for "
-            << layout.groups.size() << " groups";
-        return err.str();
-    }
-    for (int s = 0; s <= BTOCL_NUM_SETS; ++s)
-        if (sgs[size_t(s)] > sgs[size_t(s) + 1]) {
-            err << "setGroupStart decreases at set " << s;
-            return err.str();
-        }
-    // Groups tile solveOrder in order; batches tile each group.
-    int expectedOffset = 0;
-    for (size_t gi = 0; gi < layout.groups.size(); ++gi) {
-        const btoclGroup& g = layout.groups[gi];
-        if (g.offset != expectedOffset || g.count < 1 || g.offset + g.count > n) {
-            err << "group " << gi << " (offset " << g.offset << ", count " << g.count
-                << ") does not continue the previous group at " << expectedOffset;
-            return err.str();
-        }
-        expectedOffset += g.count;
-        if (g.numBatches < 1 || g.numBatches > g.count || size_t(g.offset + g.numBatches) > layout.batchEnd.size()) {
-            err << "group " << gi << " has " << g.numBatches << " batches for " << g.count << " constraints";
-            return err.str();
-        }
-        int begin = g.offset;
-        for (int k = 0; k < g.numBatches; ++k) {
-            const int end = layout.batchEnd[size_t(g.offset + k)];
-            if (end <= begin || end > g.offset + g.count) {
-                err << "group " << gi << " batch " << k << " ends at " << end << " after starting at " << begin;
-                return err.str();
-            }
-            std::unordered_set<int> inBatch;
-            for (int i = begin; i < end; ++i) {
-                const btoclConstraint& c = constraints[size_t(layout.solveOrder[size_t(i)])];
-                for (int side = 0; side < 2; ++side) {
-                    const int body = dynBody(c, side);
-                    if (body < 0) continue;
-                    if (side == 1 && c.dynamicA && c.bodyA == body) continue;  // a pair with itself
-                    if (!inBatch.insert(body).second) {
-                        err << "dynamic body " << body << " appears twice in batch " << k << " of group " << gi;
-                        return err.str();
-                    }
-                }
-            }
-            begin = end;
-        }
-        if (begin != g.offset + g.count) {
-            err << "the batches of group " << gi << " end at " << begin << ", not at its end " << g.offset + g.count;
-            return err.str();
-        }
-    }
-    if (expectedOffset != n) {
-        err << "the groups cover " << expectedOffset << " of " << n << " constraints";
-        return err.str();
-    }
-    // Groups of one set run at the same time: no dynamic body may be in two of them.
-    for (int s = 0; s <= BTOCL_NUM_SETS; ++s) {
-        std::unordered_map<int, int> groupOfBody;
-        for (int gi = sgs[size_t(s)]; gi < sgs[size_t(s) + 1]; ++gi) {
-            const btoclGroup& g = layout.groups[size_t(gi)];
-            for (int i = g.offset; i < g.offset + g.count; ++i) {
-                const btoclConstraint& c = constraints[size_t(layout.solveOrder[size_t(i)])];
-                for (int side = 0; side < 2; ++side) {
-                    const int body = dynBody(c, side);
-                    if (body < 0) continue;
-                    auto [it, inserted] = groupOfBody.emplace(body, gi);
-                    if (!inserted && it->second != gi) {
-                        err << "dynamic body " << body << " is in groups " << it->second << " and " << gi << " of set "
-                            << s;
-                        return err.str();
-                    }
-                }
-            }
-        }
-    }
-    return "";
 }
 
 }  // namespace btocl
