@@ -130,8 +130,7 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flag
 
 void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     if (p.numNormalRows == 0) return;
-    if (p.rowsOnDevice && (p.setupParams.solverMode & BTOCL_SOLVER_USE_WARMSTARTING))
-        launchPass(layout, BTOCL_PASS_WARMSTART, s.flags);
+    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s.flags);
     const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     auto endIteration = [&](int split) {
         if (!track) return;

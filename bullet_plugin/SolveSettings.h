@@ -12,12 +12,14 @@ struct SolveSettings {
     int flags = 0;               // BTOCL_FLAG_*
     float residualThreshold = 0;
     bool splitImpulse = false;
+    bool warmStart = false;      // apply the rows' starting impulses before the iterations
 
     static SolveSettings from(const btContactSolverInfo& info) {
         SolveSettings s;
         s.numIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
         s.splitImpulse = info.m_splitImpulse != 0;
+        s.warmStart = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
         // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
         if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
         if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;

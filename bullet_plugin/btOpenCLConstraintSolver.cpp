@@ -5,11 +5,8 @@
 #include "DeviceSolver.h"
 #include "OclRuntime.h"
 #include "SolveSettings.h"
-#include "StepProblem.h"
-
-#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
-#include <BulletDynamics/Dynamics/btRigidBody.h>
-#include <LinearMath/btTransformUtil.h>
+#include "BulletGather.h"
+#include "StepWriteBack.h"
 
 #include <chrono>
 #include <cmath>
@@ -18,8 +15,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-btVector3 v3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
 
 }  // namespace
 
@@ -42,7 +37,7 @@ struct btOpenCLConstraintSolver::Impl {
     btocl::OclRuntime runtime;
     btocl::DeviceSolver device;
     btocl::DeviceBatcher batcher;
-    btocl::StepProblemBuilder builder;
+    btocl::StepGatherer gatherer;
     btOpenCLSolverStats stats;
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
@@ -50,7 +45,7 @@ struct btOpenCLConstraintSolver::Impl {
 
     // After an error: the bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
-        if (gathering) builder.releaseBodies();
+        if (gathering) gatherer.releaseBodies();
         gathering = false;
         inStep = false;
     }
@@ -59,12 +54,12 @@ struct btOpenCLConstraintSolver::Impl {
                 const btContactSolverInfo& info) {
         const auto t0 = Clock::now();
         if (!gathering) {
-            builder.begin(info);
+            gatherer.begin(info);
             gathering = true;
             msGather = 0;
         }
-        builder.addBodies(bodies, numBodies);
-        builder.addManifolds(manifolds, numManifolds);
+        gatherer.addBodies(bodies, numBodies);
+        gatherer.addManifolds(manifolds, numManifolds);
         msGather += msSince(t0);
     }
 
@@ -74,8 +69,8 @@ struct btOpenCLConstraintSolver::Impl {
         btOpenCLSolverStats s;
         try {
             auto t = Clock::now();
-            btocl::StepProblem& p = builder.finish();
-            const btContactSolverInfo& info = builder.info();
+            btocl::StepProblem& p = gatherer.finish();
+            const btContactSolverInfo& info = gatherer.info();
             const btocl::SolveSettings settings = btocl::SolveSettings::from(info);
             s.msGather = msGather + msSince(t);
 
@@ -126,7 +121,7 @@ struct btOpenCLConstraintSolver::Impl {
             s.msDownload = msSince(t);
 
             t = Clock::now();
-            writeBack(p, info);
+            btocl::writeBackStep(p, info);
             s.msWriteback = msSince(t);
 
             fillCounts(s, p);
@@ -137,52 +132,6 @@ struct btOpenCLConstraintSolver::Impl {
         gathering = false;
         s.msTotal = s.msGather + msSince(tStart);
         stats = s;
-    }
-
-    // Velocities, split-impulse transforms and applied impulses back to Bullet (SI's solveGroupCacheFriendlyFinish).
-    void writeBack(const btocl::StepProblem& p, const btContactSolverInfo& info) {
-        // One walk over the manifold points (scattered in memory, so a few are fetched ahead):
-        // applied impulses, written only with warm starting as SI does, and the friction
-        // directions the setup kernel chose.
-        const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
-        const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
-        const size_t n = size_t(p.numNormalRows);
-        for (size_t i = 0; i < n; ++i) {
-            if (i + 8 < n) {
-                const char* ahead = reinterpret_cast<const char*>(p.pointOfNormalRow[i + 8]);
-                for (size_t line = 0; line < sizeof(btManifoldPoint); line += 64) __builtin_prefetch(ahead + line, 1);
-            }
-            btManifoldPoint* pt = p.pointOfNormalRow[i];
-            if (impulses) {
-                const size_t f = size_t(p.frictionRowOfNormalRow[i]);
-                pt->m_appliedImpulse = p.appliedImpulses[i];
-                pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
-                if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];
-            }
-            if (p.rowsOnDevice && p.pointTakesLateralDirs[i]) {
-                pt->m_lateralFrictionDir1 = v3(p.lateralDirs[2 * i]);
-                pt->m_lateralFrictionDir2 = v3(p.lateralDirs[2 * i + 1]);
-            }
-        }
-        for (size_t i = 1; i < p.original.size(); ++i) {
-            btRigidBody* rb = p.original[i];
-            const btoclBody& b = p.bodies[i];
-            const btoclBodyDelta& d = p.deltas[i];
-            const btVector3 linear = v3(b.linearVelocity) + v3(d.deltaLinearVelocity);
-            const btVector3 angular = v3(b.angularVelocity) + v3(d.deltaAngularVelocity);
-            rb->setLinearVelocity(linear + v3(b.externalForceImpulse));
-            rb->setAngularVelocity(angular + v3(b.externalTorqueImpulse));
-            if (info.m_splitImpulse) {
-                const btVector3 push = v3(d.pushVelocity), turn = v3(d.turnVelocity);
-                if (!push.isZero() || !turn.isZero()) {
-                    btTransform next;
-                    btTransformUtil::integrateTransform(p.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,
-                                                        info.m_timeStep, next);
-                    rb->setWorldTransform(next);
-                }
-            }
-            rb->setCompanionId(-1);
-        }
     }
 
     static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p) {

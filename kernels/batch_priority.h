@@ -7,8 +7,10 @@
 #ifndef BTOCL_BATCH_PRIORITY_H
 #define BTOCL_BATCH_PRIORITY_H
 
+#include "btocl_shared.h"
+
 // windowBits: bits of a window position (window <= 2^windowBits); the result is below 2^30.
-static inline int btoclBatchPriority(int constraintIndex, int windowPos, int windowBits) {
+BTOCL_INLINE int btoclBatchPriority(int constraintIndex, int windowPos, int windowBits) {
     unsigned int h = (unsigned int)constraintIndex;
     h ^= h >> 16;
     h *= 0x7feb352du;
@@ -19,7 +21,7 @@ static inline int btoclBatchPriority(int constraintIndex, int windowPos, int win
 }
 
 // Bits of a window position: the smallest b with windowSize <= 2^b.
-static inline int btoclBatchWindowBits(int windowSize) {
+BTOCL_INLINE int btoclBatchWindowBits(int windowSize) {
     int bits = 0;
     while ((1 << bits) < windowSize) ++bits;
     return bits;

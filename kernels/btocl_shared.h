@@ -4,6 +4,9 @@
 #ifndef BTOCL_SHARED_H
 #define BTOCL_SHARED_H
 
+// Functions of the headers that both compile (split_grid.h, row_setup.h, ...).
+#define BTOCL_INLINE static inline
+
 #ifdef __OPENCL_VERSION__
 typedef float4 btoclFloat4;
 #else

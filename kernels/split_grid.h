@@ -9,7 +9,6 @@
 #ifndef __OPENCL_VERSION__
 #include <math.h>  // the float overloads of floor, fmin, fmax in the global namespace
 #endif
-#define BTOCL_SPLIT_INLINE static inline
 
 // Cells per grid axis at most. The cell is enlarged instead, so the key range stays below 2^16:
 // 4 sets * 127 * 127 + 1 overflow key < 65536, two 8-bit radix passes on the device.
@@ -34,7 +33,7 @@ typedef struct {
 #define BTOCL_AXIS(p, a) ((a) == 0 ? (p).x : (a) == 1 ? (p).y : (p).z)
 
 // Cells along one axis of width w: at least 1, at most BTOCL_SPLIT_MAX_CELLS.
-BTOCL_SPLIT_INLINE int btoclSplitCellsAlong(float w, float invCell) {
+BTOCL_INLINE int btoclSplitCellsAlong(float w, float invCell) {
     float f = floor(w * invCell);
     f = fmin(fmax(f, 0.0f), (float)(BTOCL_SPLIT_MAX_CELLS - 1));  // NaN becomes 0
     return (int)f + 1;
@@ -42,7 +41,7 @@ BTOCL_SPLIT_INLINE int btoclSplitCellsAlong(float w, float invCell) {
 
 // bmin/bmax: the bounding box of the constraints' positions; baseCell: the cell edge the bodies ask
 // for (0 or less = none). Non-finite widths (a broken input) count as 0 so nothing overflows.
-BTOCL_SPLIT_INLINE btoclSplitGrid btoclMakeSplitGrid(float minX, float minY, float minZ, float maxX, float maxY,
+BTOCL_INLINE btoclSplitGrid btoclMakeSplitGrid(float minX, float minY, float minZ, float maxX, float maxY,
                                                      float maxZ, float baseCell) {
     float lo[3];
     float w[3];
@@ -82,20 +81,20 @@ BTOCL_SPLIT_INLINE btoclSplitGrid btoclMakeSplitGrid(float minX, float minY, flo
 }
 
 // Cell coordinate of p along one axis, relative to the box and clamped (NaN goes to cell 0).
-BTOCL_SPLIT_INLINE int btoclSplitCellCoord(float p, float origin, float invCell, int n) {
+BTOCL_INLINE int btoclSplitCellCoord(float p, float origin, float invCell, int n) {
     float c = floor((p - origin) * invCell);
     c = fmin(fmax(c, 0.0f), (float)(n - 1));
     return (int)c;
 }
 
 // Sort key of a cell: set-major (set = 2x2 checkerboard colour), then row, then column inside the set.
-BTOCL_SPLIT_INLINE int btoclSplitKeyOfCell(btoclSplitGrid g, int cx, int cy) {
+BTOCL_INLINE int btoclSplitKeyOfCell(btoclSplitGrid g, int cx, int cy) {
     int set = (cx & 1) + 2 * (cy & 1);
     return set * g.cellsPerSet + (cy >> 1) * g.halfNx + (cx >> 1);
 }
 
 // The linear cell index (cy * nx + cx) of a key, or -1 for the overflow key.
-BTOCL_SPLIT_INLINE int btoclSplitCellOfKey(btoclSplitGrid g, int key) {
+BTOCL_INLINE int btoclSplitCellOfKey(btoclSplitGrid g, int key) {
     if (key >= g.overflowKey) return -1;
     int set = key / g.cellsPerSet;
     int rest = key - set * g.cellsPerSet;

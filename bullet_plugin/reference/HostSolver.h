@@ -1,5 +1,6 @@
-// Serial host reference of kernels/solve.cl: the same iterations, passes, sets, groups and
-// batches, one constraint after another. The tests compare the device solve with it.
+// Serial host reference of the device solve (kernels/solve.cl): the same passes and iterations,
+// set after set, group after group, batch after batch, one constraint after another, with the
+// same row math (kernels/row_solve.h). The tests compare the device's parallel solve with it.
 #pragma once
 
 #include "BatchLayout.h"
@@ -8,8 +9,9 @@
 
 namespace btocl {
 
-// Runs the split-impulse and velocity iterations on p.rows and p.deltas in place.
-// Returns the number of velocity iterations run.
+// Solves rows set up on the host (p.rows, gather order) in `layout`'s order: the warm start,
+// the split-impulse and the velocity iterations. Leaves p.deltas and p.appliedImpulses as
+// DeviceSolver::download does. Returns the number of velocity iterations run.
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings);
 
 }  // namespace btocl

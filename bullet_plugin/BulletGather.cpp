@@ -1,0 +1,256 @@
+#include "BulletGather.h"
+
+#include "BulletConversions.h"
+#include "HostRowSetup.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <string>
+
+namespace btocl {
+
+static_assert(BTOCL_SOLVER_USE_WARMSTARTING == SOLVER_USE_WARMSTARTING &&
+                  BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS == SOLVER_USE_2_FRICTION_DIRECTIONS &&
+                  BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING == SOLVER_ENABLE_FRICTION_DIRECTION_CACHING &&
+                  BTOCL_SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION ==
+                      SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION,
+              "solver mode flags as Bullet's");
+static_assert(BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED == BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED &&
+                  BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM == BT_CONTACT_FLAG_HAS_CONTACT_CFM &&
+                  BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP == BT_CONTACT_FLAG_HAS_CONTACT_ERP &&
+                  BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING == BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING &&
+                  BTOCL_CONTACT_FLAG_FRICTION_ANCHOR == BT_CONTACT_FLAG_FRICTION_ANCHOR,
+              "contact point flags as Bullet's");
+
+namespace {
+
+constexpr size_t kPrefetchAhead = 4;
+
+// Manifolds lie scattered in memory: their points are asked for a few manifolds ahead.
+void prefetchPoints(const btPersistentManifold* m) {
+    const int n = m->getNumContacts();
+    if (n == 0) return;
+    const char* first = reinterpret_cast<const char*>(&m->getContactPoint(0));
+    const char* end = reinterpret_cast<const char*>(&m->getContactPoint(n - 1)) + sizeof(btManifoldPoint);
+    for (const char* a = first; a < end; a += 64) __builtin_prefetch(a);
+}
+
+void checkPoint(const btManifoldPoint& cp) {
+    if (!isFinite(cp.getPositionWorldOnA()) || !isFinite(cp.getPositionWorldOnB()) || !isFinite(cp.m_normalWorldOnB) ||
+        !std::isfinite(cp.getDistance()))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a contact point has a non-finite position, normal "
+                                  "or distance");
+}
+
+bool hasAnisotropicFriction(const btCollisionObject* o) {
+    return o->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
+                                     btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+}
+
+btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPoints) {
+    btoclSetupParams prm{};
+    prm.timeStep = info.m_timeStep;
+    prm.invTimeStep = btScalar(1) / info.m_timeStep;
+    prm.sor = info.m_sor;
+    prm.globalCfm = info.m_globalCfm;
+    prm.erp2 = info.m_erp2;
+    prm.linearSlop = info.m_linearSlop;
+    prm.restitutionVelocityThreshold = info.m_restitutionVelocityThreshold;
+    prm.warmstartingFactor = info.m_warmstartingFactor;
+    prm.splitImpulsePenetrationThreshold = info.m_splitImpulsePenetrationThreshold;
+    prm.frictionERP = info.m_frictionERP;
+    prm.splitImpulse = info.m_splitImpulse;
+    prm.solverMode = info.m_solverMode;
+    prm.numPoints = numPoints;
+    return prm;
+}
+
+}  // namespace
+
+void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
+    m_info = info;
+    m_setup = setup;
+    m_manifolds.clear();
+    StepProblem& p = m_problem;
+    p.original.assign(1, nullptr);
+    p.bodies.assign(1, btoclBody{});
+    p.deltas.assign(1, btoclBodyDelta{});
+    p.worldTransforms.assign(1, btTransform::getIdentity());
+    p.splitBodies.assign(1, SplitBody{});
+    p.constraints.clear();
+    p.manifoldOfConstraint.clear();
+    p.rows.clear();
+    p.points.clear();
+    p.manifoldPoints.clear();
+    p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
+    m_numFriction = m_numRolling = 0;
+    // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
+    p.bodies[0].linearFactor = {1, 1, 1, 0};
+    p.bodies[0].angularFactor = {1, 1, 1, 0};
+}
+
+// SI's initSolverBody and the external impulses of convertBodies.
+int StepGatherer::addSolverBody(btRigidBody* rb) {
+    const btScalar dt = m_info.m_timeStep;
+    const btTransform& xf = rb->getWorldTransform();
+    if (!isFinite(xf.getOrigin()) || !isFinite(rb->getLinearVelocity()) || !isFinite(rb->getAngularVelocity()) ||
+        !isFinite(rb->getTotalForce()) || !isFinite(rb->getTotalTorque()))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a rigid body has a non-finite position, velocity or force "
+                                  "(body at index " + std::to_string(rb->getWorldArrayIndex()) + " of the world)");
+
+    btoclBody b{};
+    const btScalar invMass = rb->getInvMass();
+    b.invMass = toFloat4(btVector3(invMass, invMass, invMass) * rb->getLinearFactor(), invMass != 0 ? 1.f : 0.f);
+    b.linearFactor = toFloat4(rb->getLinearFactor(), invMass);
+    b.angularFactor = toFloat4(rb->getAngularFactor(), 1.f);
+    const btMatrix3x3& I = rb->getInvInertiaTensorWorld();
+    b.invInertiaRow0 = toFloat4(I[0]);
+    b.invInertiaRow1 = toFloat4(I[1]);
+    b.invInertiaRow2 = toFloat4(I[2]);
+    b.centerOfMass = toFloat4(xf.getOrigin());
+    b.linearVelocity = toFloat4(rb->getLinearVelocity());
+    b.angularVelocity = toFloat4(rb->getAngularVelocity());
+    b.externalForceImpulse = toFloat4(rb->getTotalForce() * invMass * dt);
+    btVector3 torqueImpulse = rb->getTotalTorque() * I * dt;
+    if (invMass != 0) {  // gyroscopic terms, as SI's convertBodies
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT)
+            torqueImpulse -= rb->computeGyroscopicForceExplicit(m_info.m_maxGyroscopicForce) * I * dt;
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD)
+            torqueImpulse += rb->computeGyroscopicImpulseImplicit_World(dt);
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
+            torqueImpulse += rb->computeGyroscopicImpulseImplicit_Body(dt);
+    }
+    b.externalTorqueImpulse = toFloat4(torqueImpulse);
+
+    SplitBody split;
+    split.dynamic = invMass != 0;
+    if (split.dynamic) {
+        btVector3 lo, hi;
+        rb->getCollisionShape()->getAabb(xf, lo, hi);
+        const btVector3 size = hi - lo;
+        split.extent = float(size[size.maxAxis()]);
+    }
+
+    StepProblem& p = m_problem;
+    const int index = int(p.bodies.size());
+    p.original.push_back(rb);
+    p.bodies.push_back(b);
+    p.deltas.push_back(btoclBodyDelta{});
+    p.worldTransforms.push_back(xf);
+    p.splitBodies.push_back(split);
+    rb->setCompanionId(index);
+    return index;
+}
+
+// SI's getOrInitSolverBody: dynamic and kinematic rigid bodies get their own solver body, every
+// other object maps to the fixed body.
+int StepGatherer::solverBodyOf(btCollisionObject* object) {
+    const int id = object->getCompanionId();
+    if (id > 0 && id < int(m_problem.original.size()) && m_problem.original[id] == object) return id;
+    btRigidBody* rb = btRigidBody::upcast(object);
+    if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) return addSolverBody(rb);
+    return 0;
+}
+
+void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
+    for (int i = 0; i < numBodies; ++i) solverBodyOf(bodies[i]);
+}
+
+void StepGatherer::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
+    m_manifolds.insert(m_manifolds.end(), manifolds, manifolds + numManifolds);
+}
+
+// SI's convertContact: the points of a manifold in reach, as records for kernels/setup.cl. Row
+// counts are known here: one normal row, one or two friction rows, three rolling rows when
+// rolling friction is on (the host setup may drop rolling rows; HostRowSetup.h).
+void StepGatherer::packManifold(btPersistentManifold* manifold) {
+    const int idA = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody0()));
+    const int idB = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody1()));
+    StepProblem& p = m_problem;
+    // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
+    if (toVector3(p.bodies[idA].invMass).fuzzyZero() && toVector3(p.bodies[idB].invMass).fuzzyZero()) return;
+    btoclConstraint c{};
+    c.bodyA = idA;
+    c.bodyB = idB;
+    c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
+    c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
+    c.firstRow[BTOCL_ROWS_NORMAL] = int(p.points.size());
+    c.firstRow[BTOCL_ROWS_FRICTION] = m_numFriction;
+    c.firstRow[BTOCL_ROWS_ROLLING] = m_numRolling;
+
+    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    btVector3 pointSum(0, 0, 0);
+    for (int j = 0; j < manifold->getNumContacts(); ++j) {
+        btManifoldPoint& cp = manifold->getContactPoint(j);
+        if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
+        checkPoint(cp);
+        pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
+        btoclContactPoint pt{};
+        pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());
+        pt.positionOnB = toFloat4(cp.getPositionWorldOnB(), cp.m_combinedFriction);
+        pt.normalOnB = toFloat4(cp.m_normalWorldOnB, cp.m_combinedRestitution);
+        pt.lateralDir1 = toFloat4(cp.m_lateralFrictionDir1, cp.m_contactMotion1);
+        pt.lateralDir2 = toFloat4(cp.m_lateralFrictionDir2, cp.m_contactMotion2);
+        BTOCL_POINT_APPLIED(pt) = cp.m_appliedImpulse;
+        BTOCL_POINT_ROLLING_FRICTION(pt) = cp.m_combinedRollingFriction;
+        BTOCL_POINT_SPINNING_FRICTION(pt) = cp.m_combinedSpinningFriction;
+        BTOCL_POINT_FRICTION_CFM(pt) = cp.m_frictionCFM;
+        BTOCL_POINT_CONTACT_CFM(pt) = cp.m_contactCFM;
+        BTOCL_POINT_CONTACT_ERP(pt) = cp.m_contactERP;
+        BTOCL_POINT_STIFFNESS(pt) = cp.m_combinedContactStiffness1;
+        BTOCL_POINT_DAMPING(pt) = cp.m_combinedContactDamping1;
+        pt.bodyA = idA;
+        pt.bodyB = idB;
+        pt.flags = cp.m_contactPointFlags;
+        pt.firstFrictionRow = m_numFriction;
+        pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? m_numRolling : -1;
+        p.points.push_back(pt);
+        p.manifoldPoints.push_back(&cp);
+        m_numFriction += frictionRows;
+        if (pt.firstRollingRow >= 0) m_numRolling += 3;
+    }
+    c.numRows[BTOCL_ROWS_NORMAL] = int(p.points.size()) - c.firstRow[BTOCL_ROWS_NORMAL];
+    c.numRows[BTOCL_ROWS_FRICTION] = m_numFriction - c.firstRow[BTOCL_ROWS_FRICTION];
+    c.numRows[BTOCL_ROWS_ROLLING] = m_numRolling - c.firstRow[BTOCL_ROWS_ROLLING];
+    if (c.numRows[BTOCL_ROWS_NORMAL] == 0) return;
+    c.position = toFloat4(pointSum / btScalar(c.numRows[BTOCL_ROWS_NORMAL]));
+    p.constraints.push_back(c);
+    p.manifoldOfConstraint.push_back(manifold);
+}
+
+StepProblem& StepGatherer::finish() {
+    StepProblem& p = m_problem;
+    p.rowsOnDevice = m_setup == RowSetup::Device;
+    for (const btPersistentManifold* m : m_manifolds)
+        if (hasAnisotropicFriction(m->getBody0()) || hasAnisotropicFriction(m->getBody1())) p.rowsOnDevice = false;
+    for (size_t i = 0; i < m_manifolds.size(); ++i) {
+        if (i + kPrefetchAhead < m_manifolds.size()) prefetchPoints(m_manifolds[i + kPrefetchAhead]);
+        packManifold(m_manifolds[i]);
+    }
+    // Rows in gather order: all normal rows (one per point), then friction, then rolling rows.
+    p.numNormalRows = int(p.points.size());
+    p.numFrictionRows = m_numFriction;
+    p.numRollingRows = m_numRolling;
+    const int frictionBase = p.numNormalRows;
+    const int rollingBase = frictionBase + p.numFrictionRows;
+    for (btoclConstraint& c : p.constraints) {
+        c.firstRow[BTOCL_ROWS_FRICTION] += frictionBase;
+        c.firstRow[BTOCL_ROWS_ROLLING] += rollingBase;
+    }
+    for (btoclContactPoint& pt : p.points) {
+        pt.firstFrictionRow += frictionBase;
+        if (pt.firstRollingRow >= 0) pt.firstRollingRow += rollingBase;
+    }
+    p.setupParams = setupParamsOf(m_info, int(p.points.size()));
+    if (!p.rowsOnDevice) setupRowsOnHost(p);
+    return p;
+}
+
+void StepGatherer::releaseBodies() {
+    for (size_t i = 1; i < m_problem.original.size(); ++i) m_problem.original[i]->setCompanionId(-1);
+}
+
+}  // namespace btocl

@@ -1,0 +1,49 @@
+// Gathers one step from Bullet: the bodies and manifolds that btDiscreteDynamicsWorld passes to
+// solveGroup (one or more calls per step), as the records of a StepProblem. Reads Bullet's
+// objects and writes nothing back but each solver body's companion id (as SI does); everything
+// else a step changes is written by writeBackStep (StepWriteBack.h) once the solve succeeded.
+#pragma once
+
+#include "StepProblem.h"
+
+#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+
+#include <vector>
+
+class btCollisionObject;
+class btPersistentManifold;
+class btRigidBody;
+
+namespace btocl {
+
+// Where contact rows are set up. The host is used anyway when an object of the step has
+// anisotropic friction, which the setup kernel does not handle.
+enum class RowSetup { Device, Host };
+
+class StepGatherer {
+public:
+    void begin(const btContactSolverInfo& info, RowSetup setup = RowSetup::Device);
+    // Throws btOpenCLSolverError on a body with a non-finite state, naming its world index.
+    void addBodies(btCollisionObject* const* bodies, int numBodies);
+    void addManifolds(btPersistentManifold* const* manifolds, int numManifolds);
+    // Packs every manifold's points (and, for host setup, sets the rows up) and returns the
+    // finished problem. Throws btOpenCLSolverError on a non-finite contact point.
+    StepProblem& finish();
+    // Returns every body's companion id to -1 (Bullet's "not in a solver").
+    void releaseBodies();
+
+    const btContactSolverInfo& info() const { return m_info; }
+
+private:
+    int solverBodyOf(btCollisionObject* object);
+    int addSolverBody(btRigidBody* rb);
+    void packManifold(btPersistentManifold* manifold);
+
+    btContactSolverInfo m_info;
+    RowSetup m_setup = RowSetup::Device;
+    std::vector<btPersistentManifold*> m_manifolds;
+    StepProblem m_problem;
+    int m_numFriction = 0, m_numRolling = 0;  // friction and rolling rows counted so far
+};
+
+}  // namespace btocl

@@ -1,0 +1,79 @@
+#include "HostRowSetup.h"
+
+#include "BulletConversions.h"
+#include "row_setup.h"
+
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+namespace btocl {
+namespace {
+
+// SI's applyAnisotropicFriction: the direction scaled per axis in the object's frame.
+btoclFloat4 anisotropic(const btCollisionObject* object, btoclFloat4 direction, int mode) {
+    if (!object->hasAnisotropicFriction(mode)) return direction;
+    const btMatrix3x3& basis = object->getWorldTransform().getBasis();
+    btVector3 local = toVector3(direction) * basis;  // into the object's frame
+    local *= object->getAnisotropicFriction();
+    return toFloat4(basis * local);
+}
+
+btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direction, int mode) {
+    return anisotropic(m->getBody1(), anisotropic(m->getBody0(), direction, mode), mode);
+}
+
+}  // namespace
+
+void setupRowsOnHost(StepProblem& p) {
+    const btoclSetupParams& prm = p.setupParams;
+    const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const int rollingBase = p.numNormalRows + p.numFrictionRows;
+    p.rows.assign(size_t(rollingBase), btoclRow{});
+    p.lateralDirs.resize(2 * p.points.size());
+    std::vector<btoclRow> rolling;
+    for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
+        btoclConstraint& c = p.constraints[ci];
+        const btPersistentManifold* m = p.manifoldOfConstraint[ci];
+        c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size());
+        const int firstPoint = c.firstRow[BTOCL_ROWS_NORMAL];
+        for (int i = firstPoint; i < firstPoint + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {
+            btoclContactPoint& pt = p.points[size_t(i)];
+            const btoclBody& A = p.bodies[size_t(pt.bodyA)];
+            const btoclBody& B = p.bodies[size_t(pt.bodyB)];
+            const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
+            p.rows[size_t(i)] = btoclNormalRow(&pt, &A, &B, &f, &prm);
+
+            if (pt.firstRollingRow >= 0) {
+                pt.firstRollingRow = rollingBase + int(rolling.size());
+                rolling.push_back(btoclTorsionalRow(pt.normalOnB, BTOCL_POINT_SPINNING_FRICTION(pt), &pt, &A, &B, &f, i));
+                btoclFloat4 axis0, axis1;
+                btoclPlaneSpace(pt.normalOnB, &axis0, &axis1);
+                for (btoclFloat4 axis : {axis0, axis1}) {
+                    axis = anisotropicForBoth(m, btoclNormalize3(axis), btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+                    if (btoclLength3(axis) > 0.001f)
+                        rolling.push_back(btoclTorsionalRow(axis, BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, i));
+                }
+            }
+
+            btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
+            if (ff.chosen) {
+                const int mode = btCollisionObject::CF_ANISOTROPIC_FRICTION;
+                ff.dir1 = anisotropicForBoth(m, ff.dir1, mode);
+                // SI takes the second direction across the first one as anisotropy left it.
+                if (two && ff.fromVelocity) ff.dir2 = btoclNormalize3(btoclCross3(ff.dir1, pt.normalOnB));
+                if (two) ff.dir2 = anisotropicForBoth(m, ff.dir2, mode);
+            }
+            p.lateralDirs[2 * size_t(i)] = ff.dir1;
+            p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
+            p.rows[size_t(pt.firstFrictionRow)] = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, i);
+            if (two)
+                p.rows[size_t(pt.firstFrictionRow) + 1] =
+                    btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, i);
+        }
+        c.numRows[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size()) - c.firstRow[BTOCL_ROWS_ROLLING];
+    }
+    p.numRollingRows = int(rolling.size());
+    p.rows.insert(p.rows.end(), rolling.begin(), rolling.end());
+}
+
+}  // namespace btocl

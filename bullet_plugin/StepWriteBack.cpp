@@ -1,0 +1,63 @@
+#include "StepWriteBack.h"
+
+#include "BulletConversions.h"
+
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btTransformUtil.h>
+
+namespace btocl {
+namespace {
+
+// One walk over the manifold points (scattered in memory, so a few are fetched ahead).
+void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
+    const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
+    const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    // As SI: plane-space directions with two directions and no velocity dependence are kept.
+    const bool keepDirections = two && (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION);
+    const size_t n = p.points.size();
+    for (size_t i = 0; i < n; ++i) {
+        if (i + 8 < n) {
+            const char* ahead = reinterpret_cast<const char*>(p.manifoldPoints[i + 8]);
+            for (size_t line = 0; line < sizeof(btManifoldPoint); line += 64) __builtin_prefetch(ahead + line, 1);
+        }
+        btManifoldPoint* pt = p.manifoldPoints[i];
+        if (impulses) {
+            const size_t f = size_t(p.points[i].firstFrictionRow);
+            pt->m_appliedImpulse = p.appliedImpulses[i];
+            pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
+            if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];
+        }
+        // Cached directions come back unchanged.
+        pt->m_lateralFrictionDir1 = toVector3(p.lateralDirs[2 * i]);
+        pt->m_lateralFrictionDir2 = toVector3(p.lateralDirs[2 * i + 1]);
+        if (keepDirections) pt->m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+    }
+}
+
+}  // namespace
+
+void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
+    writeBackPoints(p, info);
+    for (size_t i = 1; i < p.original.size(); ++i) {
+        btRigidBody* rb = p.original[i];
+        const btoclBody& b = p.bodies[i];
+        const btoclBodyDelta& d = p.deltas[i];
+        const btVector3 linear = toVector3(b.linearVelocity) + toVector3(d.deltaLinearVelocity);
+        const btVector3 angular = toVector3(b.angularVelocity) + toVector3(d.deltaAngularVelocity);
+        rb->setLinearVelocity(linear + toVector3(b.externalForceImpulse));
+        rb->setAngularVelocity(angular + toVector3(b.externalTorqueImpulse));
+        if (info.m_splitImpulse) {
+            const btVector3 push = toVector3(d.pushVelocity), turn = toVector3(d.turnVelocity);
+            if (!push.isZero() || !turn.isZero()) {
+                btTransform next;
+                btTransformUtil::integrateTransform(p.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,
+                                                    info.m_timeStep, next);
+                rb->setWorldTransform(next);
+            }
+        }
+        rb->setCompanionId(-1);
+    }
+}
+
+}  // namespace btocl

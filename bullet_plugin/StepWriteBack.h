@@ -1,0 +1,16 @@
+// The end of a step (SI's solveGroupCacheFriendlyFinish): what the solve found, written to
+// Bullet's bodies and manifold points. The only place a step changes the world besides the
+// bodies' companion ids.
+#pragma once
+
+#include "StepProblem.h"
+
+#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+
+namespace btocl {
+
+// Velocities (and split-impulse transforms) of the bodies, applied impulses of the points (with
+// warm starting, as SI), their friction directions and flags. Releases the bodies' companion ids.
+void writeBackStep(const StepProblem& p, const btContactSolverInfo& info);
+
+}  // namespace btocl
