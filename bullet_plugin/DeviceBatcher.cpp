@@ -27,12 +27,6 @@ size_t batchLocalBytes(int wg, int window) {
     return sizeof(int) * (size_t(window) * 14 + size_t(3) * (size_t(1) << tableBitsFor(window)) + 2 * size_t(wg) + 2);
 }
 
-template <class... Args>
-void setArgs(cl::Kernel& kernel, const Args&... args) {
-    cl_uint index = 0;
-    (checkCl(kernel.setArg(index++, args), "setting a kernel argument"), ...);
-}
-
 }  // namespace
 
 DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt), m_prims(rt) {
@@ -76,17 +70,13 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
     return m_batchPrograms.emplace(wg, std::move(p)).first->second;
 }
 
-void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t global, size_t local, std::vector<cl::Event>& events,
+void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t items, size_t local, std::vector<cl::Event>& events,
                             const char* what) {
-    // With a local size the global size is rounded up to a multiple of it (such kernels check
-    // their bounds). Sizes that change from step to step need one: PoCL compiles a kernel
-    // variant for every local size it picks itself, which for a varying global size is a new
-    // compile (~0.1 s) at every new count.
-    if (local) global = (global + local - 1) / local * local;
+    // Sizes that change from step to step need a local size: PoCL compiles a kernel variant for
+    // every local size it picks itself, which for a varying global size is a new compile
+    // (~0.1 s) at every new count.
     cl::Event event;
-    checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global),
-                                              local ? cl::NDRange(local) : cl::NullRange, nullptr, &event),
-            what);
+    m_rt.launch(kernel, items, local, what, &event);
     events.push_back(event);
 }
 

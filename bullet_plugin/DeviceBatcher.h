@@ -62,7 +62,7 @@ private:
         int window = 0;
     };
     BatchProgram& batchProgram(int workGroupSize);
-    void enqueue(cl::Kernel& kernel, size_t global, size_t local, std::vector<cl::Event>& events, const char* what);
+    void enqueue(cl::Kernel& kernel, size_t items, size_t local, std::vector<cl::Event>& events, const char* what);
 
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;

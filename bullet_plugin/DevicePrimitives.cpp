@@ -92,8 +92,7 @@ size_t DevicePrimitives::chunksFor(size_t n, size_t minChunkLen) const {
 }
 
 void DevicePrimitives::launch(cl::Kernel& kernel, size_t numChunks, const char* what) {
-    checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(numChunks), cl::NDRange(1)),
-            what);
+    m_rt.launch(kernel, numChunks, 1, what);  // one work-item per chunk
 }
 
 void DevicePrimitives::sortByKey(const cl::Buffer& keys, const cl::Buffer& values, size_t n) {
@@ -177,33 +176,14 @@ void DevicePrimitives::countingPass(const cl::Buffer& keysIn, const cl::Buffer& 
     const cl_uint chunkLen = cl_uint(ceilDiv(n, chunks));
     m_counts.reserve(m_rt, rows * chunks);
 
-    cl_uint a = 0;
-    m_count.setArg(a++, keysIn);
-    m_count.setArg(a++, cl_uint(n));
-    m_count.setArg(a++, chunkLen);
-    m_count.setArg(a++, cl_uint(shift));
-    m_count.setArg(a++, cl_uint(mask));
-    m_count.setArg(a++, cl_uint(numBuckets));
-    m_count.setArg(a++, cl_uint(keyMax));
-    m_count.setArg(a++, m_counts.buffer());
-    m_count.setArg(a++, m_badKeys.buffer());
-    m_count.setArg(a++, cl::Local(rows * 4));
+    setArgs(m_count, keysIn, cl_uint(n), chunkLen, cl_uint(shift), cl_uint(mask), cl_uint(numBuckets), cl_uint(keyMax),
+            m_counts.buffer(), m_badKeys.buffer(), cl::Local(rows * 4));
     launch(m_count, chunks, "countChunkBuckets");
 
     scanChunked(m_counts.buffer(), m_counts.buffer(), rows * chunks);
 
-    a = 0;
-    m_scatter.setArg(a++, keysIn);
-    m_scatter.setArg(a++, valuesIn);
-    m_scatter.setArg(a++, cl_uint(n));
-    m_scatter.setArg(a++, chunkLen);
-    m_scatter.setArg(a++, cl_uint(shift));
-    m_scatter.setArg(a++, cl_uint(mask));
-    m_scatter.setArg(a++, cl_uint(numBuckets));
-    m_scatter.setArg(a++, m_counts.buffer());
-    m_scatter.setArg(a++, keysOut);
-    m_scatter.setArg(a++, valuesOut);
-    m_scatter.setArg(a++, cl::Local(rows * 4));
+    setArgs(m_scatter, keysIn, valuesIn, cl_uint(n), chunkLen, cl_uint(shift), cl_uint(mask), cl_uint(numBuckets),
+            m_counts.buffer(), keysOut, valuesOut, cl::Local(rows * 4));
     launch(m_scatter, chunks, "scatterChunkBuckets");
 }
 
@@ -238,17 +218,10 @@ void DevicePrimitives::scanChunked(const cl::Buffer& in, const cl::Buffer& out, 
     const size_t chunks = chunksFor(n, kScanMinChunk);
     const cl_uint chunkLen = cl_uint(ceilDiv(n, chunks));
     if (chunks > 1) {
-        m_sumChunks.setArg(0, in);
-        m_sumChunks.setArg(1, cl_uint(n));
-        m_sumChunks.setArg(2, chunkLen);
-        m_sumChunks.setArg(3, m_chunkSums.buffer());
+        setArgs(m_sumChunks, in, cl_uint(n), chunkLen, m_chunkSums.buffer());
         launch(m_sumChunks, chunks, "sumChunks");
     }
-    m_scanChunks.setArg(0, in);
-    m_scanChunks.setArg(1, out);
-    m_scanChunks.setArg(2, cl_uint(n));
-    m_scanChunks.setArg(3, chunkLen);
-    m_scanChunks.setArg(4, m_chunkSums.buffer());
+    setArgs(m_scanChunks, in, out, cl_uint(n), chunkLen, m_chunkSums.buffer());
     launch(m_scanChunks, chunks, "scanChunks");
 }
 

@@ -1,6 +1,11 @@
 #include "DeviceSolver.h"
 
 namespace btocl {
+namespace {
+
+constexpr size_t kLanes = 64;  // local size of the launches over constraints, rows and points
+
+}  // namespace
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
     // A CPU device runs the lanes of a work-group one after another, and each barrier between
@@ -18,14 +23,6 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
     m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
     m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");
     m_gatherImpulses = m_rt.makeKernel(m_arrangeProgram, "gatherAppliedImpulses");
-}
-
-void DeviceSolver::launch(cl::Kernel& kernel, size_t items, const char* what) {
-    if (items == 0) return;
-    const size_t wg = 64;
-    checkCl(m_rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((items + wg - 1) / wg * wg),
-                                              cl::NDRange(wg)),
-            what);
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
@@ -68,63 +65,33 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_pushApplied.reserve(m_rt, size_t(numRows));
     if (n == 0) return;
     // Row offsets in solve order: a count per position, then an exclusive scan.
-    m_countRows.setArg(0, *layout.solveOrder);
-    m_countRows.setArg(1, m_constraints.buffer());
-    m_countRows.setArg(2, m_rowBase.buffer());
-    m_countRows.setArg(3, n);
-    launch(m_countRows, size_t(n), "launching countRowsInSolveOrder");
+    setArgs(m_countRows, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), n);
+    m_rt.launch(m_countRows, size_t(n), kLanes, "launching countRowsInSolveOrder");
     m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
-    m_placeConstraints.setArg(0, *layout.solveOrder);
-    m_placeConstraints.setArg(1, m_constraints.buffer());
-    m_placeConstraints.setArg(2, m_rowBase.buffer());
-    m_placeConstraints.setArg(3, m_placed.buffer());
-    m_placeConstraints.setArg(4, m_rowMap.buffer());
-    m_placeConstraints.setArg(5, n);
-    launch(m_placeConstraints, size_t(n), "launching placeConstraints");
+    setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), m_placed.buffer(),
+            m_rowMap.buffer(), n);
+    m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
 
     if (!p.rowsOnDevice) {
-        m_placeRows.setArg(0, m_hostRows.buffer());
-        m_placeRows.setArg(1, m_rowMap.buffer());
-        m_placeRows.setArg(2, m_rows.buffer());
-        m_placeRows.setArg(3, m_applied.buffer());
-        m_placeRows.setArg(4, m_pushApplied.buffer());
-        m_placeRows.setArg(5, numRows);
-        launch(m_placeRows, size_t(numRows), "launching placeRows");
+        setArgs(m_placeRows, m_hostRows.buffer(), m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
+                m_pushApplied.buffer(), numRows);
+        m_rt.launch(m_placeRows, size_t(numRows), kLanes, "launching placeRows");
         return;
     }
     m_lateralDirs.reserve(m_rt, 2 * p.points.size());
-    m_setupRows.setArg(0, m_points.buffer());
-    m_setupRows.setArg(1, m_bodies.buffer());
-    m_setupRows.setArg(2, m_rowMap.buffer());
-    m_setupRows.setArg(3, m_rows.buffer());
-    m_setupRows.setArg(4, m_applied.buffer());
-    m_setupRows.setArg(5, m_pushApplied.buffer());
-    m_setupRows.setArg(6, m_lateralDirs.buffer());
-    m_setupRows.setArg(7, m_control.buffer());
-    m_setupRows.setArg(8, p.setupParams);
-    launch(m_setupRows, p.points.size(), "launching setupContactRows");
+    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
+            m_pushApplied.buffer(), m_lateralDirs.buffer(), m_control.buffer(), p.setupParams);
+    m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
 void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags) {
     cl::Kernel& k = m_passKernels[size_t(pass)];
-    k.setArg(0, *layout.groups);
-    k.setArg(2, *layout.batchEnd);
-    k.setArg(3, m_placed.buffer());
-    k.setArg(4, m_rows.buffer());
-    k.setArg(5, m_applied.buffer());
-    k.setArg(6, m_pushApplied.buffer());
-    k.setArg(7, m_bodies.buffer());
-    k.setArg(8, m_deltas.buffer());
-    k.setArg(9, m_control.buffer());
-    k.setArg(10, flags);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
-        if (count == 0) continue;
-        k.setArg(1, first);
-        checkCl(m_rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(count) * size_t(m_workGroupSize)),
-                                                  cl::NDRange(size_t(m_workGroupSize))),
-                "launching a solve pass");
+        setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_applied.buffer(),
+                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), flags);
+        m_rt.launch(k, size_t(count) * size_t(m_workGroupSize), size_t(m_workGroupSize), "launching a solve pass");
     }
 }
 
@@ -134,10 +101,8 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
     const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     auto endIteration = [&](int split) {
         if (!track) return;
-        m_endIteration.setArg(0, m_control.buffer());
-        m_endIteration.setArg(1, s.residualThreshold);
-        m_endIteration.setArg(2, split);
-        checkCl(m_rt.queue().enqueueNDRangeKernel(m_endIteration, cl::NullRange, cl::NDRange(1)), "launching endIteration");
+        setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, split);
+        m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
     };
     if (s.splitImpulse && anyPenetrationShare())
         for (int it = 0; it < s.numIterations; ++it) {
@@ -165,11 +130,8 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
         m_impulses.reserve(m_rt, size_t(n));
-        m_gatherImpulses.setArg(0, m_applied.buffer());
-        m_gatherImpulses.setArg(1, m_rowMap.buffer());
-        m_gatherImpulses.setArg(2, m_impulses.buffer());
-        m_gatherImpulses.setArg(3, n);
-        launch(m_gatherImpulses, size_t(n), "launching gatherAppliedImpulses");
+        setArgs(m_gatherImpulses, m_applied.buffer(), m_rowMap.buffer(), m_impulses.buffer(), n);
+        m_rt.launch(m_gatherImpulses, size_t(n), kLanes, "launching gatherAppliedImpulses");
         m_impulses.enqueueRead(m_rt, p.appliedImpulses.data(), size_t(n));
     }
     if (p.rowsOnDevice) {

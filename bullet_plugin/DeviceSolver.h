@@ -45,7 +45,6 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
-    void launch(cl::Kernel& kernel, size_t items, const char* what);
     void launchPass(const DeviceLayoutView& layout, int pass, int flags);
     bool anyPenetrationShare() const;
 

@@ -175,6 +175,15 @@ cl::Kernel OclRuntime::makeKernel(const cl::Program& program, const char* name) 
     return k;
 }
 
+void OclRuntime::launch(const cl::Kernel& kernel, size_t items, size_t local, const char* what,
+                        cl::Event* event) const {
+    if (items == 0) return;
+    const size_t global = local ? (items + local - 1) / local * local : items;
+    checkCl(m_queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global),
+                                         local ? cl::NDRange(local) : cl::NullRange, nullptr, event),
+            what);
+}
+
 void OclRuntime::finish(const char* what) const { checkCl(m_queue.finish(), what); }
 
 double eventMs(const cl::Event& event) {

@@ -55,6 +55,12 @@ public:
 
     cl::Kernel makeKernel(const cl::Program& program, const char* name) const;
 
+    // Enqueues `kernel` over `items` work-items. With a local size the global size is rounded up
+    // to a multiple of it (such kernels check their bounds); local 0 lets the device choose.
+    // Nothing is enqueued for 0 items. `event`, when given, receives the launch's event.
+    void launch(const cl::Kernel& kernel, size_t items, size_t local, const char* what,
+                cl::Event* event = nullptr) const;
+
     // Waits for the queue; turns an asynchronous device error into an exception.
     void finish(const char* what) const;
 
@@ -70,5 +76,12 @@ private:
 
 // Milliseconds between an event's start and end (0 without profiling).
 double eventMs(const cl::Event& event);
+
+// Sets a kernel's arguments in order: setArgs(kernel, buffer, n, params) is arguments 0, 1, 2.
+template <class... Args>
+void setArgs(cl::Kernel& kernel, const Args&... args) {
+    cl_uint index = 0;
+    (checkCl(kernel.setArg(index++, args), "setting a kernel argument"), ...);
+}
 
 }  // namespace btocl

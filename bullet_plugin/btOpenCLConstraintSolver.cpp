@@ -16,6 +16,21 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// Host wall time of a step's stages, one lap each.
+class StageTimer {
+public:
+    double lap() {
+        const Clock::time_point now = Clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(now - m_last).count();
+        m_last = now;
+        return ms;
+    }
+    double total() const { return msSince(m_start); }
+
+private:
+    Clock::time_point m_start = Clock::now(), m_last = m_start;
+};
+
 }  // namespace
 
 struct btOpenCLConstraintSolver::Impl {
@@ -41,7 +56,7 @@ struct btOpenCLConstraintSolver::Impl {
     btOpenCLSolverStats stats;
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
-    double msGather = 0;
+    double msGatherCalls = 0;  // time spent gathering inside this step's solveGroup calls
 
     // After an error: the bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
@@ -56,29 +71,26 @@ struct btOpenCLConstraintSolver::Impl {
         if (!gathering) {
             gatherer.begin(info);
             gathering = true;
-            msGather = 0;
+            msGatherCalls = 0;
         }
         gatherer.addBodies(bodies, numBodies);
         gatherer.addManifolds(manifolds, numManifolds);
-        msGather += msSince(t0);
+        msGatherCalls += msSince(t0);
     }
 
     void run() {
         if (!gathering) return;
-        const auto tStart = Clock::now();
+        StageTimer timer;
         btOpenCLSolverStats s;
         try {
-            auto t = Clock::now();
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
             const btocl::SolveSettings settings = btocl::SolveSettings::from(info);
-            s.msGather = msGather + msSince(t);
+            s.msGather = msGatherCalls + timer.lap();
 
-            t = Clock::now();
             device.upload(p);
             runtime.finish("uploading the step");
-            s.msUpload = msSince(t);
-
+            s.msUpload = timer.lap();
 
             // Global split and local batches on the device, from the constraints just uploaded.
             btocl::SplitParams params;
@@ -106,23 +118,20 @@ struct btOpenCLConstraintSolver::Impl {
                 }
             }
 
-            t = Clock::now();
+            timer.lap();  // validation is not a stage of the step
             device.arrange(p, view);
             runtime.finish("setting up the rows");
-            s.msSetup = msSince(t);
+            s.msSetup = timer.lap();
 
-            t = Clock::now();
             device.iterate(p, view, settings);
             runtime.finish("solving");
-            s.msSolve = msSince(t);
+            s.msSolve = timer.lap();
 
-            t = Clock::now();
             s.numIterationsRun = device.download(p, settings);
-            s.msDownload = msSince(t);
+            s.msDownload = timer.lap();
 
-            t = Clock::now();
             btocl::writeBackStep(p, info);
-            s.msWriteback = msSince(t);
+            s.msWriteback = timer.lap();
 
             fillCounts(s, p);
         } catch (...) {
@@ -130,7 +139,7 @@ struct btOpenCLConstraintSolver::Impl {
             throw;
         }
         gathering = false;
-        s.msTotal = s.msGather + msSince(tStart);
+        s.msTotal = msGatherCalls + timer.total();
         stats = s;
     }
 

@@ -29,13 +29,22 @@ struct btOpenCLSolverConfig {
     bool validate = false;    // check the split and batch invariants every step (tests use it)
 };
 
-struct btOpenCLSolverStats {  // of the last step
+// What the last step did. Phase times are host wall-clock milliseconds of each stage, waits for
+// the device included, except msBatch (see below).
+struct btOpenCLSolverStats {
     int numBodies = 0, numContactPoints = 0, numJointRows = 0, numConstraintRows = 0;
     int numCellGroups = 0, numBatchesMax = 0, numOverflowConstraints = 0, validationFailures = 0;
     double numBatchesMean = 0;
-    double msGather = 0, msSplit = 0, msBatch = 0, msSolve = 0, msWriteback = 0, msTotal = 0;
-    // Finer phases (OpenCL event profiling where the device supports it).
-    double msUpload = 0, msSetup = 0, msDownload = 0;
+    double msGather = 0;     // reading Bullet's bodies and manifolds into the step's records
+    double msUpload = 0;     // copying them to the device
+    double msSplit = 0;      // the global split, up to the read-back of its group counts
+    double msBatch = 0;      // the local batching: the batch kernel's device time (OpenCL event
+                             // profiling; 0 where the device does not profile)
+    double msSetup = 0;      // laying constraints out in solve order and setting their rows up
+    double msSolve = 0;      // the warm start and every iteration
+    double msDownload = 0;   // copying velocities and impulses back
+    double msWriteback = 0;  // writing them to Bullet's bodies and manifold points
+    double msTotal = 0;      // from the first solveGroup to the end of allSolved, gathering included
     int numIterationsRun = 0;
     std::string lastValidationMessage;  // first invariant failure of the last step, if any
 };
