@@ -2,9 +2,20 @@
 # (demos/bench/), with a PNG picture of a chosen frame.
 find_package(PNG REQUIRED)
 
-file(GLOB BTOCL_BENCH_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/bench/*.cpp")
-add_executable(btocl_bench ${BTOCL_BENCH_SOURCES})
-target_compile_options(btocl_bench PRIVATE -Wall -Wextra)
+add_executable(btocl_bench
+  bench/btocl_bench.cpp
+  bench/BenchOptions.cpp
+  bench/BenchSummary.cpp
+  bench/JsonValue.cpp
+  bench/PngFile.cpp
+  bench/Quality.cpp
+  bench/Raster.cpp
+  bench/ScenePicture.cpp
+  bench/SceneWorld.cpp
+  bench/Scenes.cpp
+  bench/SolverSide.cpp
+  bench/TimedSolver.cpp)
+btocl_target_defaults(btocl_bench)
 target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG)
 
 if(BTOCL_BUILD_TESTS)
