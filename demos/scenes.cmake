@@ -1,12 +1,12 @@
 # Side-by-side benchmark of Bullet's sequential-impulse solver and ours on headless scenes
 # (demos/bench/), with a PNG picture of a chosen frame.
 find_package(PNG REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
 
 add_executable(btocl_bench
   bench/btocl_bench.cpp
   bench/BenchOptions.cpp
   bench/BenchSummary.cpp
-  bench/JsonValue.cpp
   bench/PngFile.cpp
   bench/Quality.cpp
   bench/Raster.cpp
@@ -16,7 +16,7 @@ add_executable(btocl_bench
   bench/SolverSide.cpp
   bench/TimedSolver.cpp)
 btocl_target_defaults(btocl_bench)
-target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG)
+target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json)
 
 if(BTOCL_BUILD_TESTS)
   set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid)

@@ -97,13 +97,11 @@ int run(const BenchOptions& options) {
     }
     facts.wallSeconds = secondsSince(start);
 
-    const JsonValue summary = summariseRun(options, facts, si.get(), ours.get());
-    summary.write(std::cout);
-    std::cout << std::endl;
+    const std::string summary = summariseRun(options, facts, si.get(), ours.get());
+    std::cout << summary << std::endl;
     if (!options.jsonFile.empty()) {
         std::ofstream out(options.jsonFile);
-        summary.write(out);
-        out << '\n';
+        out << summary << '\n';
         if (!out) {
             std::fprintf(stderr, "btocl_bench: cannot write %s\n", options.jsonFile.c_str());
             return 1;
