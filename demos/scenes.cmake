@@ -2,6 +2,7 @@
 # (demos/bench/), with a PNG picture of a chosen frame.
 find_package(PNG REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+find_package(CLI11 REQUIRED)
 
 add_executable(btocl_bench
   bench/btocl_bench.cpp
@@ -16,7 +17,7 @@ add_executable(btocl_bench
   bench/SolverSide.cpp
   bench/TimedSolver.cpp)
 btocl_target_defaults(btocl_bench)
-target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json)
+target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
 
 if(BTOCL_BUILD_TESTS)
   set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid)
@@ -41,5 +42,5 @@ if(BTOCL_BUILD_TESTS)
   add_test(NAME bench_rejects_unknown_scene COMMAND btocl_bench --scene no-such-scene)
   set_tests_properties(bench_rejects_unknown_scene PROPERTIES PASS_REGULAR_EXPRESSION "unknown scene 'no-such-scene'")
   add_test(NAME bench_rejects_bad_number COMMAND btocl_bench --scene pyramid --steps -3)
-  set_tests_properties(bench_rejects_bad_number PROPERTIES PASS_REGULAR_EXPRESSION "--steps wants an integer")
+  set_tests_properties(bench_rejects_bad_number PROPERTIES PASS_REGULAR_EXPRESSION "--steps: '-3' is not an integer in \\[0, 1000000\\]")
 endif()

@@ -138,11 +138,11 @@ int main(int argc, char** argv) {
     try {
         options = parseBenchOptions(std::vector<std::string>(argv + 1, argv + argc));
     } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "btocl_bench: %s\n%s", e.what(), benchUsage());
+        std::fprintf(stderr, "btocl_bench: %s\nRun btocl_bench --help for the options.\n", e.what());
         return 2;
     }
     if (options.help) {
-        std::fputs(benchUsage(), stdout);
+        std::fputs(benchUsage().c_str(), stdout);
         return 0;
     }
     if (options.listScenes) {
