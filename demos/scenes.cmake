@@ -17,6 +17,7 @@ add_executable(btocl_bench
   bench/SolverSide.cpp
   bench/TimedSolver.cpp)
 btocl_target_defaults(btocl_bench)
+target_include_directories(btocl_bench PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")  # CliChecks.h, shared with the other demos
 target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
 
 if(BTOCL_BUILD_TESTS)

@@ -1,58 +1,17 @@
 #include "BenchOptions.h"
 
+#include "CliChecks.h"
+
 #include <CLI/CLI.hpp>
 
-#include <sstream>
 #include <stdexcept>
 
 namespace btbench {
 
 namespace {
 
-template <class Number>
-std::string rangeText(Number lo, Number hi) {
-    std::ostringstream out;
-    out << '[' << lo << ", " << hi << ']';
-    return out.str();
-}
-
-// A decimal integer in [lo, hi]. Used as a transform, so that the value CLI11 converts is the
-// decimal text: CLI11 2.1 on its own reads 010 as octal 8 and 0x10 as 16.
-CLI::Validator integerIn(long lo, long hi) {
-    const std::string range = rangeText(lo, hi);
-    auto check = [lo, hi, range](std::string& text) -> std::string {
-        size_t used = 0;
-        long value = 0;
-        try {
-            value = std::stol(text, &used, 10);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (text.empty() || used != text.size() || value < lo || value > hi)
-            return "'" + text + "' is not an integer in " + range;
-        text = std::to_string(value);
-        return "";
-    };
-    return CLI::Validator(check, "INT in " + range);
-}
-
-// A number in [lo, hi]. CLI::Range would let NaN through.
-CLI::Validator numberIn(double lo, double hi) {
-    const std::string range = rangeText(lo, hi);
-    auto check = [lo, hi, range](const std::string& text) -> std::string {
-        size_t used = 0;
-        double value = 0;
-        try {
-            value = std::stod(text, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (text.empty() || used != text.size() || !(value >= lo && value <= hi))
-            return "'" + text + "' is not a number in " + range;
-        return "";
-    };
-    return CLI::Validator(check, "FLOAT in " + range);
-}
+using btdemo::integerIn;
+using btdemo::numberIn;
 
 // The options, bound to the fields of `o` (and `solver`, turned into o.runSi/o.runOurs after
 // parsing). The same set serves parsing and the --help text.
