@@ -4,5 +4,5 @@ foreach(prog bench_primitives startup)
   btocl_target_defaults(${prog})
   # They reach past the public header, into the library's own classes and kernels.
   target_include_directories(${prog} PRIVATE "${PROJECT_SOURCE_DIR}/bullet_plugin" "${PROJECT_SOURCE_DIR}/kernels")
-  target_link_libraries(${prog} PRIVATE bullet_opencl_solver OpenCL::OpenCL Boost::headers)
+  target_link_libraries(${prog} PRIVATE bullet_opencl_solver OpenCL::OpenCL Boost::headers CLI11::CLI11)
 endforeach()

@@ -2,7 +2,6 @@
 # (demos/bench/), with a PNG picture of a chosen frame.
 find_package(PNG REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
-find_package(CLI11 REQUIRED)
 
 add_executable(btocl_bench
   bench/btocl_bench.cpp
