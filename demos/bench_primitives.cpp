@@ -2,6 +2,7 @@
 // Boost.Compute, at the sizes the solver sees. Prints JSON: ms median of `runs` after warm-up,
 // each timed from the first enqueue to the end of queue.finish().
 //   bench_primitives [runs=9] [keyRange=4096]
+#include "CliChecks.h"
 #include "DevicePrimitives.h"
 #include "DeviceBuffer.h"
 #include "OclRuntime.h"
@@ -10,10 +11,11 @@
 #include <boost/compute/command_queue.hpp>
 #include <boost/compute/iterator/buffer_iterator.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <random>
 #include <string>
@@ -43,8 +45,27 @@ double medianMs(const OclRuntime& rt, int runs, const std::function<void()>& pre
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
-    const unsigned keyRange = argc > 2 ? unsigned(std::max(2, std::atoi(argv[2]))) : 4096;
+    int runs = 9;
+    unsigned keyRange = 4096;
+    CLI::App app("Times the device primitives of the global split, hand-written (chunked) against\n"
+                 "Boost.Compute, at the sizes the solver sees. Prints JSON: the median of RUNS runs in ms.",
+                 "bench_primitives");
+    app.add_option("runs", runs, "timed runs per measurement, after two warm-up runs")
+        ->type_name("N")
+        ->transform(btdemo::integerIn(1, 10000))
+        ->capture_default_str();
+    app.add_option("keyRange", keyRange, "keys of the small-range sorts are below this")
+        ->type_name("K")
+        ->transform(btdemo::integerIn(2, long(DevicePrimitives::maxSmallKeyRange())))
+        ->capture_default_str();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "bench_primitives: %s\nRun bench_primitives --help for the options.\n", e.what());
+        return 2;
+    }
     try {
         OclRuntime rt("");
         std::fprintf(stderr, "device: %s; building both backends (Boost.Compute compiles at first use)\n",

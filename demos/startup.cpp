@@ -12,6 +12,7 @@
 #include "OclRuntime.h"
 #include "btOpenCLConstraintSolver.h"
 
+#include <CLI/CLI.hpp>
 #include <btBulletDynamicsCommon.h>
 
 #include <array>
@@ -157,12 +158,23 @@ int runChild(const char* self, const std::string& dir, bool withBoost) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    bool coldWarm = false, withBoost = false;
+    CLI::App app("Start-up cost: builds every embedded OpenCL program, constructs DevicePrimitives and runs\n"
+                 "a tiny sort and scan, then makes a btOpenCLConstraintSolver and times the first two steps of\n"
+                 "a small world. Prints JSON.",
+                 "startup");
+    app.add_flag("--cold-warm", coldWarm,
+                 "two runs in child processes: cold (a fresh POCL_CACHE_DIR), then warm (the same one)");
+    app.add_flag("--boost", withBoost, "also time constructing the Boost.Compute backend (first, same and new context)");
     try {
-        bool coldWarm = false, withBoost = false;
-        for (int i = 1; i < argc; ++i) {
-            coldWarm |= std::strcmp(argv[i], "--cold-warm") == 0;
-            withBoost |= std::strcmp(argv[i], "--boost") == 0;
-        }
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "startup: %s\nRun startup --help for the options.\n", e.what());
+        return 2;
+    }
+    try {
         if (coldWarm) {
             std::array<char, 64> tmpl{};
             std::snprintf(tmpl.data(), tmpl.size(), "/tmp/btocl-pocl-cache-XXXXXX");

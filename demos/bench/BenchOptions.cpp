@@ -1,87 +1,94 @@
 #include "BenchOptions.h"
 
+#include "CliChecks.h"
+
+#include <CLI/CLI.hpp>
+
 #include <stdexcept>
 
 namespace btbench {
 
-const char* benchUsage() {
-    return "usage: btocl_bench --scene NAME [--steps N] [--iterations N] [--size K] [--dt S]\n"
-           "                   [--solver both|si|ocl] [--stand-in] [--validate] [--allow-ocl-error]\n"
-           "                   [--max-divergence D] [--png FILE [--frame K]] [--json FILE] [--smoke]\n"
-           "       btocl_bench --list\n"
-           "Steps the same scene in two identical worlds, one with btSequentialImpulseConstraintSolver and\n"
-           "one with btOpenCLConstraintSolver, and prints a JSON summary on stdout (progress on stderr).\n"
-           "  --stand-in          use a second btSequentialImpulseConstraintSolver in place of ours\n"
-           "  --allow-ocl-error   exit 0 even when our solver reports an error (the JSON still has it)\n"
-           "  --max-divergence D  exit 3 when the same body differs by more than D between the worlds\n"
-           "  --png FILE          picture of step K (default: the last), SI left, ours right\n"
-           "  --smoke             the scene's small test size and 20 steps (unless --size/--steps say)\n";
-}
-
 namespace {
 
-long parseInteger(const std::string& flag, const std::string& text, long lo, long hi) {
-    size_t used = 0;
-    long value = 0;
-    try {
-        value = std::stol(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || text.empty() || value < lo || value > hi)
-        throw std::invalid_argument(flag + " wants an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                                    "], got '" + text + "'");
-    return value;
-}
+using btdemo::integerIn;
+using btdemo::numberIn;
 
-double parseReal(const std::string& flag, const std::string& text, double lo, double hi) {
-    size_t used = 0;
-    double value = 0;
-    try {
-        value = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || text.empty() || !(value >= lo && value <= hi))
-        throw std::invalid_argument(flag + " wants a number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                                    "], got '" + text + "'");
-    return value;
+// The options, bound to the fields of `o` (and `solver`, turned into o.runSi/o.runOurs after
+// parsing). The same set serves parsing and the --help text.
+void addBenchOptions(CLI::App& app, BenchOptions& o, std::string& solver) {
+    app.description(
+        "Steps the same scene in two identical worlds, one with btSequentialImpulseConstraintSolver and\n"
+        "one with btOpenCLConstraintSolver, and prints a JSON summary on stdout (progress on stderr).");
+    app.footer(
+        "Exit status: 0; 1 when a solver reports an error; 2 for bad arguments; 3 when --max-divergence\n"
+        "is exceeded; 4 when --validate finds broken invariants.");
+    app.get_formatter()->column_width(34);
+    // --help is a field of BenchOptions, like --list, so that both can go without --scene.
+    app.set_help_flag();
+    // A repeated option takes its last value.
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+
+    app.add_option("--scene", o.scene, "scene to run (see --list); required unless --help or --list")
+        ->type_name("NAME");
+    app.add_option("--steps", o.steps, "steps to run (default: the scene's, or 20 with --smoke)")
+        ->type_name("N")
+        ->transform(integerIn(0, 1000000));
+    app.add_option("--size", o.size, "scene size; what it counts depends on the scene (default: the scene's)")
+        ->type_name("K")
+        ->transform(integerIn(1, 2000000));
+    app.add_option("--iterations", o.iterations, "solver iterations, the same for both solvers")
+        ->type_name("N")
+        ->transform(integerIn(1, 10000))
+        ->capture_default_str();
+    app.add_option("--dt", o.dt, "time step in seconds")
+        ->type_name("S")
+        ->check(numberIn(1e-5, 1.0))
+        ->capture_default_str();
+    app.add_option("--solver", solver, "which sides to run: both, si (Bullet's alone) or ocl (ours alone)")
+        ->type_name("WHICH")
+        ->check(CLI::IsMember({"both", "si", "ocl"}))
+        ->capture_default_str();
+    app.add_flag("--stand-in", o.standIn, "use a second btSequentialImpulseConstraintSolver in place of ours");
+    app.add_flag("--validate", o.validate, "check split and batch invariants every step (exit 4 if broken)");
+    app.add_flag("--allow-ocl-error", o.allowOclError,
+                 "exit 0 even when our solver reports an error (the JSON still has it)");
+    app.add_option("--max-divergence", o.maxDivergence,
+                   "exit 3 when the same body differs by more than D between the worlds")
+        ->type_name("D")
+        ->check(numberIn(0, 1e30));
+    app.add_option("--png", o.pngFile, "picture of step K (see --frame), SI left, ours right")->type_name("FILE");
+    app.add_option("--frame", o.frame, "step drawn by --png, 0 = before the first step (default: the last)")
+        ->type_name("K")
+        ->transform(integerIn(0, 1000000));
+    app.add_option("--json", o.jsonFile, "also write the JSON summary to FILE")->type_name("FILE");
+    app.add_flag("--smoke", o.smoke, "the scene's small test size and 20 steps (unless --size/--steps say)");
+    app.add_flag("--list", o.listScenes, "list the scenes with their default sizes and steps");
+    app.add_flag("-h,--help", o.help, "print this help");
 }
 
 }  // namespace
 
+std::string benchUsage() {
+    BenchOptions unused;
+    std::string solver = "both";
+    CLI::App app("", "btocl_bench");
+    addBenchOptions(app, unused, solver);
+    return app.help();
+}
+
 BenchOptions parseBenchOptions(const std::vector<std::string>& args) {
     BenchOptions o;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--scene") o.scene = value();
-        else if (a == "--steps") o.steps = int(parseInteger(a, value(), 0, 1000000));
-        else if (a == "--size") o.size = int(parseInteger(a, value(), 1, 2000000));
-        else if (a == "--iterations") o.iterations = int(parseInteger(a, value(), 1, 10000));
-        else if (a == "--dt") o.dt = parseReal(a, value(), 1e-5, 1.0);
-        else if (a == "--solver") {
-            const std::string& s = value();
-            if (s == "both") o.runSi = o.runOurs = true;
-            else if (s == "si") { o.runSi = true; o.runOurs = false; }
-            else if (s == "ocl") { o.runSi = false; o.runOurs = true; }
-            else throw std::invalid_argument("--solver wants both, si or ocl, got '" + s + "'");
-        }
-        else if (a == "--stand-in") o.standIn = true;
-        else if (a == "--validate") o.validate = true;
-        else if (a == "--allow-ocl-error") o.allowOclError = true;
-        else if (a == "--max-divergence") o.maxDivergence = parseReal(a, value(), 0, 1e30);
-        else if (a == "--png") o.pngFile = value();
-        else if (a == "--frame") o.frame = int(parseInteger(a, value(), 0, 1000000));
-        else if (a == "--json") o.jsonFile = value();
-        else if (a == "--smoke") o.smoke = true;
-        else if (a == "--list") o.listScenes = true;
-        else if (a == "--help" || a == "-h") o.help = true;
-        else throw std::invalid_argument("unknown argument '" + a + "'");
+    std::string solver = "both";
+    CLI::App app("", "btocl_bench");
+    addBenchOptions(app, o, solver);
+    try {
+        // CLI11 takes the arguments last first.
+        app.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+    } catch (const CLI::ParseError& e) {
+        throw std::invalid_argument(e.what());
     }
+    o.runSi = solver != "ocl";
+    o.runOurs = solver != "si";
     if (!o.help && !o.listScenes && o.scene.empty()) throw std::invalid_argument("--scene is required");
     return o;
 }

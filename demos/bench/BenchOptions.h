@@ -25,8 +25,10 @@ struct BenchOptions {
     bool help = false;
 };
 
-// Throws std::invalid_argument with a message naming the bad argument.
+// Parses the arguments after the program name. Throws std::invalid_argument with a message
+// naming the bad argument.
 BenchOptions parseBenchOptions(const std::vector<std::string>& args);
-const char* benchUsage();
+// The --help text: what the program does and every option.
+std::string benchUsage();
 
 }  // namespace btbench

@@ -3,42 +3,47 @@
 #include "Percentiles.h"
 #include "Quality.h"
 
+#include <nlohmann/json.hpp>
+
 namespace btbench {
 
 namespace {
+
+// Keys stay in the order they are set, so the summary reads top to bottom.
+using Json = nlohmann::ordered_json;
 
 // A box of a standing stack settles by millimetres (penetration slop, compression of the
 // contacts below it); a box of a toppled stack moves by its own size. A quarter of a unit box
 // (and half a brick's height) separates the two with a wide margin either way.
 const btScalar kStandingDrift = 0.25f;
 
-JsonValue timing(const std::vector<double>& ms) {
-    JsonValue t = JsonValue::object();
+Json timing(const std::vector<double>& ms) {
+    Json t = Json::object();
     t["median"] = quantile(ms, 0.5);
     t["p90"] = quantile(ms, 0.9);
     t["mean"] = mean(ms);
-    t["first"] = ms.empty() ? JsonValue() : JsonValue(ms.front());  // includes one-off set-up
+    t["first"] = ms.empty() ? Json() : Json(ms.front());  // includes one-off set-up
     return t;
 }
 
-JsonValue quality(const SolverSide& side, const RunFacts& facts) {
-    JsonValue q = JsonValue::object();
+Json quality(const SolverSide& side, const RunFacts& facts) {
+    Json q = Json::object();
     q["maxPenetration"] = double(-side.minDistance);  // over the run, impacts included
     q["finalPenetration"] = double(-side.lastMinDistance);
     q["maxDrift"] = double(side.maxDrift);
     q["driftFromStep"] = facts.driftFromStep;
-    q["kineticEnergy"] = side.scene ? JsonValue(kineticEnergy(*side.scene)) : JsonValue();
-    q["topCentreHeight"] = side.scene ? JsonValue(double(maxCentreHeight(*side.scene))) : JsonValue();
+    q["kineticEnergy"] = side.scene ? Json(kineticEnergy(*side.scene)) : Json();
+    q["topCentreHeight"] = side.scene ? Json(double(maxCentreHeight(*side.scene))) : Json();
     // Only scenes whose boxes start at rest have stacks that should stand.
-    q["stacksStanding"] = facts.scene->startsAtRest && side.stepsDone > 0 ? JsonValue(side.maxDrift < kStandingDrift)
-                                                                          : JsonValue();
+    q["stacksStanding"] = facts.scene->startsAtRest && side.stepsDone > 0 ? Json(side.maxDrift < kStandingDrift)
+                                                                          : Json();
     return q;
 }
 
-JsonValue sideJson(const SolverSide& side, const RunFacts& facts) {
-    JsonValue s = JsonValue::object();
+Json sideJson(const SolverSide& side, const RunFacts& facts) {
+    Json s = Json::object();
     s["solver"] = side.kind == SolverKind::OpenCL ? "btOpenCLConstraintSolver" : "btSequentialImpulseConstraintSolver";
-    s["error"] = side.error.empty() ? JsonValue() : JsonValue(side.error);
+    s["error"] = side.error.empty() ? Json() : Json(side.error);
     s["stepsDone"] = side.stepsDone;
     s["msPerStep"] = timing(side.msPerStep);
     s["contactPoints"] = side.lastCounts.contactPoints;
@@ -55,7 +60,7 @@ JsonValue sideJson(const SolverSide& side, const RunFacts& facts) {
         s["validationFailures"] = side.validationFailures;
         if (!st.lastValidationMessage.empty()) s["validationMessage"] = st.lastValidationMessage;
         // getLastStats() of every step: median and 90th percentile of each phase.
-        JsonValue medians = JsonValue::object(), p90s = JsonValue::object();
+        Json medians = Json::object(), p90s = Json::object();
         const PhaseSamples& p = side.phases;
         const std::pair<const char*, const std::vector<double>*> named[] = {
             {"gather", &p.gather}, {"upload", &p.upload}, {"setup", &p.setup},         {"split", &p.split},
@@ -68,14 +73,15 @@ JsonValue sideJson(const SolverSide& side, const RunFacts& facts) {
         s["phasesMsMedian"] = medians;
         s["phasesMsP90"] = p90s;
     }
-    s["quality"] = side.stepsDone > 0 ? quality(side, facts) : JsonValue();  // nothing to judge
+    s["quality"] = side.stepsDone > 0 ? quality(side, facts) : Json();  // nothing to judge
     return s;
 }
 
 }  // namespace
 
-JsonValue summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si, const SolverSide* ours) {
-    JsonValue j = JsonValue::object();
+std::string summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si,
+                         const SolverSide* ours) {
+    Json j = Json::object();
     j["scene"] = facts.scene->name;
     j["description"] = facts.scene->description;
     j["size"] = facts.size;
@@ -83,33 +89,33 @@ JsonValue summariseRun(const BenchOptions& options, const RunFacts& facts, const
     j["iterations"] = options.iterations;
     j["dt"] = options.dt;
     const SolverSide* any = si && si->scene ? si : ours;
-    j["bodies"] = any && any->scene ? JsonValue(any->scene->numDynamicBodies()) : JsonValue();
-    j["contactPoints"] = any ? JsonValue(any->lastCounts.contactPoints) : JsonValue();
-    j["device"] = facts.deviceName.empty() ? JsonValue() : JsonValue(facts.deviceName);
+    j["bodies"] = any && any->scene ? Json(any->scene->numDynamicBodies()) : Json();
+    j["contactPoints"] = any ? Json(any->lastCounts.contactPoints) : Json();
+    j["device"] = facts.deviceName.empty() ? Json() : Json(facts.deviceName);
     if (options.standIn) j["standIn"] = "ours is a second btSequentialImpulseConstraintSolver (--stand-in)";
     if (si) j["si"] = sideJson(*si, facts);
     if (ours) j["ours"] = sideJson(*ours, facts);
     if (si && ours && !si->msPerStep.empty() && !ours->msPerStep.empty())
         j["ratioOursOverSi"] = quantile(ours->msPerStep, 0.5) / quantile(si->msPerStep, 0.5);
     else
-        j["ratioOursOverSi"] = JsonValue();
+        j["ratioOursOverSi"] = Json();
     if (facts.compared) {
-        JsonValue d = JsonValue::object();
+        Json d = Json::object();
         d["final"] = double(facts.divergenceFinal);
         d["max"] = double(facts.divergenceMax);
         j["trajectoryDivergence"] = d;
     }
     if (!facts.pngFile.empty()) {
-        JsonValue png = JsonValue::object();
+        Json png = Json::object();
         png["file"] = facts.pngFile;
         png["frame"] = facts.pngFrame;
-        JsonValue panels = JsonValue::array();
-        for (const std::string& name : facts.pngPanels) panels.push(name);
-        png["panelsLeftToRight"] = panels;
+        png["panelsLeftToRight"] = facts.pngPanels;
         j["png"] = png;
     }
     j["wallSeconds"] = facts.wallSeconds;
-    return j;
+    // NaN (a quantile of no samples) comes out as null. Bytes that are not UTF-8 (a driver's
+    // error message) are replaced rather than thrown on.
+    return j.dump(2, ' ', false, Json::error_handler_t::replace);
 }
 
 }  // namespace btbench

@@ -2,7 +2,6 @@
 #pragma once
 
 #include "BenchOptions.h"
-#include "JsonValue.h"
 #include "Scenes.h"
 #include "SolverSide.h"
 
@@ -22,6 +21,8 @@ struct RunFacts {
     double wallSeconds = 0;
 };
 
-JsonValue summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si, const SolverSide* ours);
+// The summary as indented JSON text.
+std::string summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si,
+                         const SolverSide* ours);
 
 }  // namespace btbench

@@ -97,13 +97,11 @@ int run(const BenchOptions& options) {
     }
     facts.wallSeconds = secondsSince(start);
 
-    const JsonValue summary = summariseRun(options, facts, si.get(), ours.get());
-    summary.write(std::cout);
-    std::cout << std::endl;
+    const std::string summary = summariseRun(options, facts, si.get(), ours.get());
+    std::cout << summary << std::endl;
     if (!options.jsonFile.empty()) {
         std::ofstream out(options.jsonFile);
-        summary.write(out);
-        out << '\n';
+        out << summary << '\n';
         if (!out) {
             std::fprintf(stderr, "btocl_bench: cannot write %s\n", options.jsonFile.c_str());
             return 1;
@@ -140,11 +138,11 @@ int main(int argc, char** argv) {
     try {
         options = parseBenchOptions(std::vector<std::string>(argv + 1, argv + argc));
     } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "btocl_bench: %s\n%s", e.what(), benchUsage());
+        std::fprintf(stderr, "btocl_bench: %s\nRun btocl_bench --help for the options.\n", e.what());
         return 2;
     }
     if (options.help) {
-        std::fputs(benchUsage(), stdout);
+        std::fputs(benchUsage().c_str(), stdout);
         return 0;
     }
     if (options.listScenes) {
