@@ -12,19 +12,26 @@
 #include <boost/compute/iterator/buffer_iterator.hpp>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace btocl;
 namespace bc = boost::compute;
+using Json = nlohmann::ordered_json;
 
 namespace {
+
+// Milliseconds to the microsecond, so the JSON does not carry meaningless digits.
+double roundMs(double ms) { return std::round(ms * 1000) / 1000; }
 
 double medianMs(const OclRuntime& rt, int runs, const std::function<void()>& prepare,
                 const std::function<void()>& work) {
@@ -76,11 +83,12 @@ int main(int argc, char** argv) {
         unsigned keyBits = 1;
         while ((1u << keyBits) < keyRange) ++keyBits;
 
-        std::printf("{\n  \"device\": \"%s\",\n  \"runs\": %d,\n  \"keyRange\": %u,\n  \"sizes\": [\n",
-                    rt.deviceName().c_str(), runs, keyRange);
-        const size_t sizes[] = {10000, 60000, 300000, 1000000};
-        for (size_t si = 0; si < 4; ++si) {
-            const size_t n = sizes[si];
+        Json out;
+        out["device"] = rt.deviceName();
+        out["runs"] = runs;
+        out["keyRange"] = keyRange;
+        Json sizes = Json::array();
+        for (const size_t n : {size_t(10000), size_t(60000), size_t(300000), size_t(1000000)}) {
             std::mt19937 rng{unsigned(n)};
             std::vector<cl_uint> keys(n), wide(n);
             std::vector<cl_int> values(n);
@@ -124,17 +132,21 @@ int main(int argc, char** argv) {
             const double boostRadixWide = medianMs(rt, runs, wideKeys, boostRadix);
             const double scanChunked = medianMs(rt, runs, [] {}, [&] { chunked.exclusiveScan(v0.buffer(), v.buffer(), n); });
             const double scanBoost = medianMs(rt, runs, [] {}, [&] { boost.exclusiveScan(v0.buffer(), v.buffer(), n); });
-            std::printf("    {\"n\": %zu,\n"
-                        "     \"smallKeys_ms\": {\"chunked_counting\": %.3f, \"chunked_radix_%ubits\": %.3f, "
-                        "\"chunked_radix_32bits\": %.3f, \"boost_stable_sort_by_key\": %.3f, \"boost_radix\": %.3f},\n"
-                        "     \"randomUint32Keys_ms\": {\"chunked_radix_32bits\": %.3f, \"boost_stable_sort_by_key\": "
-                        "%.3f, \"boost_radix\": %.3f},\n"
-                        "     \"exclusiveScan_ms\": {\"chunked\": %.3f, \"boost\": %.3f}}%s\n",
-                        n, countSmall, keyBits, radixSmall, radix32Small, boostSmall, boostRadixSmall, radix32Wide,
-                        boostWide, boostRadixWide, scanChunked, scanBoost, si + 1 < 4 ? "," : "");
-            std::fflush(stdout);
+            Json size;
+            size["n"] = n;
+            size["smallKeys_ms"] = {{"chunked_counting", roundMs(countSmall)},
+                                    {"chunked_radix_" + std::to_string(keyBits) + "bits", roundMs(radixSmall)},
+                                    {"chunked_radix_32bits", roundMs(radix32Small)},
+                                    {"boost_stable_sort_by_key", roundMs(boostSmall)},
+                                    {"boost_radix", roundMs(boostRadixSmall)}};
+            size["randomUint32Keys_ms"] = {{"chunked_radix_32bits", roundMs(radix32Wide)},
+                                           {"boost_stable_sort_by_key", roundMs(boostWide)},
+                                           {"boost_radix", roundMs(boostRadixWide)}};
+            size["exclusiveScan_ms"] = {{"chunked", roundMs(scanChunked)}, {"boost", roundMs(scanBoost)}};
+            sizes.push_back(std::move(size));
         }
-        std::printf("  ]\n}\n");
+        out["sizes"] = std::move(sizes);
+        std::printf("%s\n", out.dump(2, ' ', false, Json::error_handler_t::replace).c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_primitives: %s\n", e.what());
         return 1;
