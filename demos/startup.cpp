@@ -3,7 +3,8 @@
 // then, apart, makes a btOpenCLConstraintSolver and times the first two steps of a small world.
 //   startup                 one run in the current PoCL cache; prints JSON
 //   startup --cold-warm     runs itself twice with POCL_CACHE_DIR set to a fresh empty
-//                           directory (cold), then the same directory again (warm)
+//                           directory (cold), then the same directory again (warm), and
+//                           prints both runs' JSON in one object
 //   --boost                 also times the Boost.Compute backend (not used by default):
 //                           first construction, again on the same context, on a new context
 #include "DeviceBuffer.h"
@@ -14,22 +15,36 @@
 
 #include <CLI/CLI.hpp>
 #include <btBulletDynamicsCommon.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
 using namespace btocl;
+using Json = nlohmann::ordered_json;
 
 namespace {
+
+// Times in the JSON keep only the digits that mean something (ms to 0.1, or 0.01 for the tiny
+// sort and scan).
+double rounded(double ms, int decimals) {
+    const double scale = std::pow(10.0, decimals);
+    return std::round(ms * scale) / scale;
+}
+
+std::string dumpJson(const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace); }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -40,14 +55,14 @@ bool endsWith(const std::string& s, const char* tail) {
     return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
 }
 
-// One measurement in this process; prints a JSON object.
-int runOnce(bool withBoost) {
+// One measurement in this process, as a JSON object.
+Json runOnce(bool withBoost) {
     const auto tAll = std::chrono::steady_clock::now();
     auto t0 = std::chrono::steady_clock::now();
     OclRuntime rt("");
     const double msRuntime = msSince(t0);
 
-    std::string programs;
+    Json programs = Json::array();
     double msPrograms = 0;
     for (const EmbeddedKernelFile& f : embeddedKernelFiles()) {
         const std::string name = f.name;
@@ -56,10 +71,7 @@ int runOnce(bool withBoost) {
         rt.buildProgramFile(name);
         const double ms = msSince(t0);
         msPrograms += ms;
-        char line[256];
-        std::snprintf(line, sizeof line, "%s\n      {\"file\": \"%s\", \"build_ms\": %.1f}", programs.empty() ? "" : ",",
-                      name.c_str(), ms);
-        programs += line;
+        programs.push_back({{"file", name}, {"build_ms", rounded(ms, 1)}});
     }
 
     t0 = std::chrono::steady_clock::now();
@@ -124,35 +136,69 @@ int runOnce(bool withBoost) {
         msBoost[2] = msSince(t0);
     }
 
-    std::printf("{\"device\": \"%s\", \"pocl_cache_dir\": \"%s\",\n"
-                "    \"runtime_ms\": %.1f, \"programs_build_ms\": %.1f, \"programs\": [%s],\n"
-                "    \"device_primitives\": \"%s\", \"device_primitives_construct_ms\": %.1f,"
-                " \"tiny_sort_scan_ms\": %.2f, \"total_ms\": %.1f,\n"
-                "    \"solver_construct_ms\": %.1f, \"first_step_ms\": %.1f, \"second_step_ms\": %.1f",
-                rt.deviceName().c_str(), std::getenv("POCL_CACHE_DIR") ? std::getenv("POCL_CACHE_DIR") : "(default)",
-                msRuntime, msPrograms, programs.c_str(), prims.backendName(), msPrimitives, msTiny, msTotal, msSolver,
-                msSteps[0], msSteps[1]);
+    const char* cacheDir = std::getenv("POCL_CACHE_DIR");
+    Json out;
+    out["device"] = rt.deviceName();
+    out["pocl_cache_dir"] = cacheDir ? cacheDir : "(default)";
+    out["runtime_ms"] = rounded(msRuntime, 1);
+    out["programs_build_ms"] = rounded(msPrograms, 1);
+    out["programs"] = std::move(programs);
+    out["device_primitives"] = prims.backendName();
+    out["device_primitives_construct_ms"] = rounded(msPrimitives, 1);
+    out["tiny_sort_scan_ms"] = rounded(msTiny, 2);
+    out["total_ms"] = rounded(msTotal, 1);
+    out["solver_construct_ms"] = rounded(msSolver, 1);
+    out["first_step_ms"] = rounded(msSteps[0], 1);
+    out["second_step_ms"] = rounded(msSteps[1], 1);
     if (withBoost)
-        std::printf(",\n    \"boost_compute_construct_ms\": {\"first\": %.1f, \"again_same_context\": %.1f,"
-                    " \"new_context\": %.1f}",
-                    msBoost[0], msBoost[1], msBoost[2]);
-    std::printf("}");
-    std::fflush(stdout);
-    return 0;
+        out["boost_compute_construct_ms"] = {{"first", rounded(msBoost[0], 1)},
+                                             {"again_same_context", rounded(msBoost[1], 1)},
+                                             {"new_context", rounded(msBoost[2], 1)}};
+    return out;
 }
 
-// Runs this program again (single mode) with POCL_CACHE_DIR=dir; returns its exit status.
-int runChild(const char* self, const std::string& dir, bool withBoost) {
+// Runs this program again (single mode) with POCL_CACHE_DIR=dir, its stdout read through a pipe
+// (its stderr is ours); `result` gets the JSON it printed, or null when that does not parse.
+// Returns its exit status, 1 when it exited 0 but printed no JSON.
+int runChild(const char* self, const std::string& dir, bool withBoost, Json& result) {
+    int fds[2];
+    if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
     const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error("fork failed");
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        throw std::runtime_error("fork failed");
+    }
     if (pid == 0) {
+        dup2(fds[1], STDOUT_FILENO);
+        close(fds[0]);
+        close(fds[1]);
         setenv("POCL_CACHE_DIR", dir.c_str(), 1);
         execl(self, self, withBoost ? "--boost" : static_cast<char*>(nullptr), static_cast<char*>(nullptr));
         _exit(127);
     }
+    close(fds[1]);
+    std::string text;
+    char chunk[4096];
+    for (;;) {
+        const ssize_t got = read(fds[0], chunk, sizeof chunk);
+        if (got > 0)
+            text.append(chunk, size_t(got));
+        else if (got == 0 || errno != EINTR)
+            break;
+    }
+    close(fds[0]);
     int status = 0;
     waitpid(pid, &status, 0);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+    const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+    result = Json::parse(text, nullptr, false);
+    if (result.is_discarded()) {
+        std::fprintf(stderr, "startup: the run with POCL_CACHE_DIR=%s printed no JSON (exit status %d)\n",
+                     dir.c_str(), rc);
+        result = nullptr;
+        return rc != 0 ? rc : 1;
+    }
+    return rc;
 }
 
 }  // namespace
@@ -180,20 +226,16 @@ int main(int argc, char** argv) {
             std::snprintf(tmpl.data(), tmpl.size(), "/tmp/btocl-pocl-cache-XXXXXX");
             if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
             const std::string dir = tmpl.data();
-            std::printf("{\"cold\": ");
-            std::fflush(stdout);
-            int rc = runChild("/proc/self/exe", dir, withBoost);
-            std::printf(",\n \"warm\": ");
-            std::fflush(stdout);
-            rc |= runChild("/proc/self/exe", dir, withBoost);
-            std::printf("}\n");
+            Json out;
+            int rc = runChild("/proc/self/exe", dir, withBoost, out["cold"]);
+            rc |= runChild("/proc/self/exe", dir, withBoost, out["warm"]);
+            std::printf("%s\n", dumpJson(out).c_str());
             const std::string rm = "rm -rf '" + dir + "'";
             if (std::system(rm.c_str()) != 0) std::fprintf(stderr, "startup: could not remove %s\n", dir.c_str());
             return rc;
         }
-        const int rc = runOnce(withBoost);
-        std::printf("\n");
-        return rc;
+        std::printf("%s\n", dumpJson(runOnce(withBoost)).c_str());
+        return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "startup: %s\n", e.what());
         return 1;
