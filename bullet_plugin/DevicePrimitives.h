@@ -1,21 +1,13 @@
 // Sort by key and exclusive scan on the device, for the global split.
 //
-// Why hand-written kernels (kernels/primitives.cl) and not Boost.Compute, on CPU devices:
-// `build-P/demos/bench_primitives 15 4096` (PoCL, 2 cores, with other builds running, so +-30%;
-// ms, median of 15 after warm-up), sort of n (key < 4096, int) pairs:
-//        n   chunked counting sort   Boost stable_sort_by_key   Boost radix_sort_by_key
-//    10000          0.09                    0.76                       1.06
-//    60000          0.15                    4.6                        9.6
-//   300000          0.70                   26.8                       58.5
-// On a CPU device Boost.Compute's sort is a merge sort whose last passes run on few work-items;
-// the counting sort is one O(n + buckets) pass. With the same kernels, a 12-bit radix (two
-// passes) is slower than the one counting pass at every size (300K: 1.18 ms), and a full 32-bit
-// radix sorts random keys 10x faster than Boost (300K: 3.5 vs 31 ms). The exclusive scans are
-// equal within noise (300K: 0.13 vs 0.18 ms). Start-up too: Boost.Compute compiles its programs
-// at first use, 3.9 s cold / 0.36 s warm PoCL cache, once per OpenCL context (kept in memory:
-// a second object on the same context pays 1 ms); the chunked program costs 0.9 s cold / 0.05 s
-// warm (`demos/startup --cold-warm --boost`). Boost.Compute stays the backend for other devices
-// (GPUs: a few long serial chunks would waste them); there is no GPU here to measure it on.
+// Why two backends. On CPU devices, hand-written kernels (kernels/primitives.cl): a chunked
+// counting sort (one O(n + buckets) pass, for keys below a known range), a chunked LSD radix
+// sort built from the same passes, and a chunked scan. There Boost.Compute's sort is a merge
+// sort whose last passes run on few work-items, many times slower, and Boost.Compute compiles
+// its programs at first use, once per OpenCL context, which makes start-up slower too. On other
+// devices (GPUs), Boost.Compute: its radix sort and work-efficient scan use the lanes that a few
+// long serial chunks would waste. The measured figures, and the command that gives them, are
+// in demos/bench/README.md ("Sort and scan: our kernels against Boost.Compute").
 //
 // Host round trips: none, except the 4-byte read of checkKeys() (see sortByKeySmallRange).
 // Scratch memory (n keys, n values, the bucket counts) is kept and grown, never shrunk.
