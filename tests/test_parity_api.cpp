@@ -1,11 +1,11 @@
 // What a user of btOpenCLConstraintSolver sees beside the physics: a clear error for joints
 // (they come in a later issue), plausible statistics, a device name. These always run our
 // solver (BTOCL_PARITY_REFERENCE_ONLY does not apply: there is no SI counterpart).
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
 #include <cctype>
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 

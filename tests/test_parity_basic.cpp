@@ -1,10 +1,10 @@
 // Parity with btSequentialImpulseConstraintSolver on single bodies: free fall, resting contact,
 // sliding friction on flat ground and on a slope, restitution.
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
 #include <cfloat>
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 

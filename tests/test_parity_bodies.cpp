@@ -1,8 +1,8 @@
 // Parity with btSequentialImpulseConstraintSolver for special bodies and set-ups: a kinematic
 // body pushing boxes, a body with a zero linear factor on one axis, two worlds with two solvers.
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 

@@ -1,11 +1,11 @@
 // Parity with btSequentialImpulseConstraintSolver across Bullet's island handling: islands split
 // (one solveGroup call per island) or not (one call for the world) give the same result, and
 // with sleeping on bodies come to rest and deactivate as with SI.
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 

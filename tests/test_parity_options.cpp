@@ -1,8 +1,8 @@
 // Parity with btSequentialImpulseConstraintSolver under the solver options: warm starting,
 // split impulse, two friction directions, rolling friction.
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 

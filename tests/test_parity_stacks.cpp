@@ -1,9 +1,9 @@
 // Parity with btSequentialImpulseConstraintSolver on stacking: a column of 10 boxes, a pyramid
 // with a base of 10 and a brick wall stand for 10 s at 10 iterations, with penetration no deeper
 // than 1.5x SI's (the design's quality bar).
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 
