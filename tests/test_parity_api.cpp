@@ -9,8 +9,6 @@ using namespace testworld;
 
 namespace {
 
-const btVector3 kUnitHalf(btScalar(0.5), btScalar(0.5), btScalar(0.5));
-
 std::string lower(std::string s) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
     return s;
@@ -28,8 +26,8 @@ bool finiteState(const btRigidBody* b) {
 TEST_CASE("parity: a world with a joint gets a btOpenCLSolverError that names joints", "[parity]") {
     World w(SolverKind::OpenCL);
     w.addGround();
-    btRigidBody* a = w.addBox(kUnitHalf, 1, at(btVector3(0, 3, 0)));
-    btRigidBody* b = w.addBox(kUnitHalf, 1, at(btVector3(1, 3, 0)));
+    btRigidBody* a = w.addUnitBox(btVector3(0, 3, 0));
+    btRigidBody* b = w.addUnitBox(btVector3(1, 3, 0));
     btPoint2PointConstraint* joint = w.addConstraint(std::make_unique<btPoint2PointConstraint>(
         *a, *b, btVector3(btScalar(0.5), 0, 0), btVector3(btScalar(-0.5), 0, 0)));
     std::string message;
@@ -52,7 +50,7 @@ TEST_CASE("parity: a world with a joint gets a btOpenCLSolverError that names jo
 TEST_CASE("parity: getLastStats counts the bodies and contact points of a known scene", "[parity]") {
     World w(SolverKind::OpenCL);
     w.addGround();
-    for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(btScalar(3 * i), btScalar(0.5), 0)));
+    for (int i = 0; i < 3; ++i) w.addUnitBox(btVector3(btScalar(3 * i), btScalar(0.5), 0));
     for (int i = 0; i < 10; ++i) w.step();
     const btOpenCLSolverStats& s = w.openCL()->getLastStats();
     CAPTURE(s.numBodies, s.numContactPoints, s.numJointRows, s.numConstraintRows, s.numCellGroups,
