@@ -2,8 +2,8 @@
 // a real world, and the whole solver against btSequentialImpulseConstraintSolver.
 #include "DeviceSolver.h"
 #include "HostSolver.h"
+#include "Scenes.h"
 #include "SerialLayout.h"
-#include "SolverTestWorld.h"
 #include "StepProblem.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -12,14 +12,17 @@
 #include <cmath>
 
 using namespace btocl;
+using testworld::SolverKind;
+using testworld::World;
+using testworld::groundAndPile;
 
 namespace {
 
 // One step's problem, gathered from the world's bodies and manifolds as they are.
-StepProblem gatherProblem(SolverTestWorld& w, const btContactSolverInfo& info, RowSetup setup) {
+StepProblem gatherProblem(World& w, const btContactSolverInfo& info, RowSetup setup) {
     StepProblemBuilder builder;
     builder.begin(info, setup);
-    btCollisionObjectArray& objects = w.world->getCollisionObjectArray();
+    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
     builder.addBodies(&objects[0], objects.size());
     const std::vector<btPersistentManifold*> manifolds = w.manifolds();
     builder.addManifolds(manifolds.data(), int(manifolds.size()));
@@ -29,8 +32,8 @@ StepProblem gatherProblem(SolverTestWorld& w, const btContactSolverInfo& info, R
 }
 
 // Settles a pile with SI so that it has contacts, then gathers one step's problem from it.
-StepProblem gatherPileProblem(SolverTestWorld& w, const btContactSolverInfo& info, RowSetup setup = RowSetup::Host) {
-    for (int i = 0; i < 30; ++i) w.world->stepSimulation(1.f / 60, 0);
+StepProblem gatherPileProblem(World& w, const btContactSolverInfo& info, RowSetup setup = RowSetup::Host) {
+    for (int i = 0; i < 30; ++i) w.step();
     return gatherProblem(w, info, setup);
 }
 
@@ -49,19 +52,13 @@ int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings
     return iterations;
 }
 
-// Ground and a 64-box pile, solved by SI to make contacts.
-void buildPile(SolverTestWorld& w) {
-    w.addGround();
-    w.addPile(64);
-}
-
 float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
 
 }  // namespace
 
 TEST_CASE("device solve matches the serial host reference on a gathered pile", "[solve]") {
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    buildPile(w);
+    World w(SolverKind::Reference);
+    groundAndPile(w, 64);
     btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
     if (mode == 1) info.m_splitImpulse = 1;
@@ -99,7 +96,7 @@ float rowFieldGap(const btoclFloat4& a, const btoclFloat4& b) {
 
 // Gathers the world's contacts both ways (device records, host rows), sets the device rows up and
 // applies the warm start, and compares rows and starting velocity changes with the host's.
-void requireDeviceSetupAsHost(SolverTestWorld& w, const btContactSolverInfo& info) {
+void requireDeviceSetupAsHost(World& w, const btContactSolverInfo& info) {
     StepProblem dev = gatherProblem(w, info, RowSetup::Device);
     StepProblem host = gatherProblem(w, info, RowSetup::Host);
     REQUIRE(dev.rowsOnDevice);
@@ -146,15 +143,14 @@ void requireDeviceSetupAsHost(SolverTestWorld& w, const btContactSolverInfo& inf
 TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
     auto mode = GENERATE(0, 1, 2, 3, 4, 5);
     CAPTURE(mode);
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    w.addGround();
-    w.addPile(48);
-    for (size_t i = 1; i < w.bodies.size(); i += 3) {
-        w.bodies[i]->setRollingFriction(0.1f);  // rolling and spinning rows on some points
-        w.bodies[i]->setSpinningFriction(0.05f);
-        w.bodies[i]->setRestitution(0.4f);
+    World w(SolverKind::Reference);
+    groundAndPile(w, 48);
+    for (size_t i = 1; i < w.bodies().size(); i += 3) {
+        w.body(i)->setRollingFriction(0.1f);  // rolling and spinning rows on some points
+        w.body(i)->setSpinningFriction(0.05f);
+        w.body(i)->setRestitution(0.4f);
     }
-    w.bodies[0]->setRollingFriction(0.2f);
+    w.body(0)->setRollingFriction(0.2f);
     btContactSolverInfo info = w.stepInfo();
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
@@ -163,14 +159,13 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
         info.m_sor = 0.9f;
         info.m_globalCfm = 0.001f;
     }
-    for (int i = 0; i < 30; ++i) w.world->stepSimulation(1.f / 60, 0);
+    for (int i = 0; i < 30; ++i) w.step();
     if (mode == 5) {
         // Per-point options: contact CFM/ERP, stiffness and damping, friction anchors, and cached
         // friction directions with a conveyor-belt motion.
         info.m_solverMode |= SOLVER_ENABLE_FRICTION_DIRECTION_CACHING | SOLVER_USE_2_FRICTION_DIRECTIONS;
         int k = 0;
-        for (int i = 0; i < w.dispatcher.getNumManifolds(); ++i) {
-            btPersistentManifold* m = w.dispatcher.getManifoldByIndexInternal(i);
+        for (btPersistentManifold* m : w.manifolds()) {
             for (int j = 0; j < m->getNumContacts(); ++j, ++k) {
                 btManifoldPoint& cp = m->getContactPoint(j);
                 switch (k % 5) {
@@ -199,14 +194,14 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
 TEST_CASE("a large world's contacts set up on the device as on the host", "[setup]") {
     // Over 4,000 manifolds and 50,000 rows, with rolling friction on some: every row, body index
     // and starting impulse as the host setup's.
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
+    World w(SolverKind::Reference);
     w.addGround();
     for (int y = 0; y < 12; ++y)
         for (int x = 0; x < 20; ++x)
-            for (int z = 0; z < 20; ++z) w.addBox(btVector3(btScalar(x) * 1.02f, 0.5f + btScalar(y), btScalar(z) * 1.02f));
-    for (size_t i = 1; i < w.bodies.size(); i += 7) w.bodies[i]->setRollingFriction(0.1f);
-    for (int i = 0; i < 3; ++i) w.world->stepSimulation(1.f / 60, 0);
-    REQUIRE(w.dispatcher.getNumManifolds() > 4000);
+            for (int z = 0; z < 20; ++z) w.addUnitBox(btVector3(btScalar(x) * 1.02f, 0.5f + btScalar(y), btScalar(z) * 1.02f));
+    for (size_t i = 1; i < w.bodies().size(); i += 7) w.body(i)->setRollingFriction(0.1f);
+    for (int i = 0; i < 3; ++i) w.step();
+    REQUIRE(w.manifolds().size() > 4000);
     btContactSolverInfo info = w.stepInfo();
     // Friction along the plane space: a direction taken from a nearly-zero sliding velocity is
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
@@ -215,8 +210,8 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
 }
 
 TEST_CASE("a residual threshold stops the device iterations where the host reference stops", "[solve]") {
-    SolverTestWorld w(std::make_unique<btSequentialImpulseConstraintSolver>());
-    buildPile(w);
+    World w(SolverKind::Reference);
+    groundAndPile(w, 64);
     btContactSolverInfo info = w.stepInfo();
     info.m_numIterations = 50;
     info.m_leastSquaresResidualThreshold = 1e-3f;  // reached after about a dozen iterations

@@ -1,5 +1,5 @@
 // Solver-level behaviour beyond parity: determinism, bad input, calls outside a step bracket.
-#include "SolverTestWorld.h"
+#include "Scenes.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <catch2/catch.hpp>
@@ -8,35 +8,36 @@
 #include <cstring>
 #include <limits>
 
+using namespace testworld;
+
 namespace {
 
 // A box settled on the ground by SI, and our solver driven by hand on its contacts.
 struct HandDriven {
-    SolverTestWorld w{std::make_unique<btSequentialImpulseConstraintSolver>()};
+    World w{SolverKind::Reference};
     btRigidBody* box = settle(w);
     btOpenCLConstraintSolver solver;
     btContactSolverInfo info = w.stepInfo();
     std::vector<btPersistentManifold*> manifolds = w.manifolds();
 
-    static btRigidBody* settle(SolverTestWorld& world) {
+    static btRigidBody* settle(World& world) {
         world.addGround();
-        btRigidBody* b = world.addBox(btVector3(0, 0.5f, 0));
-        for (int s = 0; s < 20; ++s) world.world->stepSimulation(1.f / 60, 0);
+        btRigidBody* b = world.addUnitBox(btVector3(0, 0.5f, 0));
+        for (int s = 0; s < 20; ++s) world.step();
         return b;
     }
     void solveGroup(const btContactSolverInfo& with) {
         btCollisionObject* bodies[] = {box};
-        solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, with, nullptr, &w.dispatcher);
+        solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, with, nullptr, &w.dispatcher());
     }
 };
 
 std::vector<btTransform> runPile(int boxes, int steps) {
-    SolverTestWorld w(makeValidatingSolver());
-    w.addGround();
-    w.addPile(boxes);
-    for (int s = 0; s < steps; ++s) w.world->stepSimulation(1.f / 60, 0);
+    World w(SolverKind::OpenCL);
+    groundAndPile(w, boxes);
+    for (int s = 0; s < steps; ++s) w.step();
     std::vector<btTransform> out;
-    for (auto& b : w.bodies) out.push_back(b->getWorldTransform());
+    for (const btRigidBody* b : w.bodies()) out.push_back(b->getWorldTransform());
     return out;
 }
 
@@ -55,15 +56,15 @@ TEST_CASE("two runs of a 1,000-box pile end bitwise equal", "[determinism]") {
 }
 
 TEST_CASE("a non-finite body velocity is a clear error and the world steps on once it is fixed", "[errors]") {
-    SolverTestWorld w(makeValidatingSolver());
+    World w(SolverKind::OpenCL);
     w.addGround();
-    btRigidBody* box = w.addBox(btVector3(0, 0.5f, 0));
-    btRigidBody* other = w.addBox(btVector3(3, 0.5f, 0));
-    for (int s = 0; s < 10; ++s) w.world->stepSimulation(1.f / 60, 0);
+    btRigidBody* box = w.addUnitBox(btVector3(0, 0.5f, 0));
+    btRigidBody* other = w.addUnitBox(btVector3(3, 0.5f, 0));
+    for (int s = 0; s < 10; ++s) w.step();
     const btVector3 otherBefore = other->getWorldTransform().getOrigin();
     box->setLinearVelocity(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
     try {
-        w.world->stepSimulation(1.f / 60, 0);
+        w.step();
         FAIL("a NaN velocity should be reported");
     } catch (const btOpenCLSolverError& e) {
         INFO(e.what());
@@ -76,7 +77,7 @@ TEST_CASE("a non-finite body velocity is a clear error and the world steps on on
     CHECK(other->getCompanionId() == -1);
     box->setLinearVelocity(btVector3(0, 0, 0));
     box->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f, 0)));
-    for (int s = 0; s < 30; ++s) w.world->stepSimulation(1.f / 60, 0);
+    for (int s = 0; s < 30; ++s) w.step();
     CHECK(std::fabs(box->getWorldTransform().getOrigin().y() - 0.5f) < 0.02f);
 }
 
