@@ -1,6 +1,6 @@
 // Parity with btSequentialImpulseConstraintSolver on stacking: a column of 10 boxes, a pyramid
 // with a base of 10 and a brick wall stand for 10 s at 10 iterations, with penetration no deeper
-// than 1.5x SI's (the design's quality bar).
+// than 1.5x SI's (the design's quality bar); a loose pile of 64 boxes settles where SI's does.
 #include "Scenes.h"
 
 using namespace testworld;
@@ -64,4 +64,22 @@ TEST_CASE("parity: a pyramid with a base of 10 stands 10 s as with SI", "[parity
 
 TEST_CASE("parity: a brick wall stands 10 s as with SI", "[parity]") {
     requireStandsAsSI([](World& w) { groundAndBrickWall(w, 8); });
+}
+
+TEST_CASE("a pile of 64 boxes settles as with SI", "[parity][si]") {
+    Pair p;
+    p.build([](World& w) { groundAndPile(w, 64); });
+    double gap = 0;
+    p.run(120, [&](World& r, World& o) { gap = std::max(gap, double(maxPositionGap(r, o))); });
+    INFO("max position gap " << gap);
+    if (btOpenCLConstraintSolver* solver = p.ours.openCL()) {
+        const btOpenCLSolverStats& stats = solver->getLastStats();
+        INFO("contacts " << stats.numContactPoints << " rows " << stats.numConstraintRows);
+        CHECK(stats.numBodies == 64);
+        CHECK(stats.numContactPoints > 100);
+        CHECK(stats.validationFailures == 0);
+    }
+    // The same pile solved in another Gauss-Seidel order: SI against itself with
+    // SOLVER_RANDMIZE_ORDER parts by 1.2 cm on this scene (1.18 to 1.24 cm, three seeds), so 2 cm.
+    CHECK(gap < 0.02f);
 }
