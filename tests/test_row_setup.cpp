@@ -1,7 +1,6 @@
-// The device solve (kernels/solve.cl) against its serial host reference, on rows gathered from
-// a real world, and the whole solver against btSequentialImpulseConstraintSolver.
-#include "DeviceSolver.h"
-#include "HostSolver.h"
+// The row setup on the device (kernels/setup.cl, after the arrange kernel, with the warm start)
+// against the host's setup of SI's rows, on contacts gathered from a real world.
+#include "GatherAndSolve.h"
 #include "Scenes.h"
 #include "SerialLayout.h"
 #include "StepProblem.h"
@@ -9,82 +8,13 @@
 
 #include <catch2/catch.hpp>
 
-#include <cmath>
+#include <algorithm>
 
 using namespace btocl;
+using namespace btocl::test;
 using testworld::SolverKind;
 using testworld::World;
 using testworld::groundAndPile;
-
-namespace {
-
-// One step's problem, gathered from the world's bodies and manifolds as they are.
-StepProblem gatherProblem(World& w, const btContactSolverInfo& info, RowSetup setup) {
-    StepProblemBuilder builder;
-    builder.begin(info, setup);
-    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
-    builder.addBodies(&objects[0], objects.size());
-    const std::vector<btPersistentManifold*> manifolds = w.manifolds();
-    builder.addManifolds(manifolds.data(), int(manifolds.size()));
-    StepProblem p = builder.finish();
-    builder.releaseBodies();
-    return p;
-}
-
-// Settles a pile with SI so that it has contacts, then gathers one step's problem from it.
-StepProblem gatherPileProblem(World& w, const btContactSolverInfo& info, RowSetup setup = RowSetup::Host) {
-    for (int i = 0; i < 30; ++i) w.step();
-    return gatherProblem(w, info, setup);
-}
-
-// Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order.
-// Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
-int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                  std::vector<btoclRow>* rows = nullptr) {
-    OclRuntime rt("");
-    DeviceSolver solver(rt, 64);
-    solver.upload(p);
-    const DeviceLayoutView view = solver.uploadLayout(layout);
-    solver.arrange(p, view);
-    solver.iterate(p, view, settings);
-    const int iterations = solver.download(p, settings);
-    if (rows) *rows = solver.downloadRows(p);
-    return iterations;
-}
-
-float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
-
-}  // namespace
-
-TEST_CASE("device solve matches the serial host reference on a gathered pile", "[solve]") {
-    World w(SolverKind::Reference);
-    groundAndPile(w, 64);
-    btContactSolverInfo info = w.stepInfo();
-    auto mode = GENERATE(0, 1, 2);
-    if (mode == 1) info.m_splitImpulse = 1;
-    if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
-    StepProblem host = gatherPileProblem(w, info);
-    REQUIRE(host.numContactPoints() > 100);
-    StepProblem dev = host;
-    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info);
-
-    solveOnHost(host, layout, settings);
-    solveOnDevice(dev, layout, settings);
-
-    // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
-    // changes the last bits of each row update: 1e-4 relative over 10 iterations bounds that.
-    float worst = 0;
-    for (size_t i = 0; i < host.deltas.size(); ++i) {
-        worst = std::max(worst, relDiff(host.deltas[i].deltaLinearVelocity.y, dev.deltas[i].deltaLinearVelocity.y));
-        worst = std::max(worst, relDiff(host.deltas[i].deltaAngularVelocity.x, dev.deltas[i].deltaAngularVelocity.x));
-        worst = std::max(worst, relDiff(host.deltas[i].pushVelocity.y, dev.deltas[i].pushVelocity.y));
-    }
-    for (int i = 0; i < host.numNormalRows + host.numFrictionRows; ++i)
-        worst = std::max(worst, relDiff(host.rows[size_t(i)].impulses.x, dev.appliedImpulses[size_t(i)]));
-    INFO("worst relative difference " << worst);
-    CHECK(worst < 1e-4f);
-}
 
 namespace {
 
@@ -207,25 +137,4 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
     requireDeviceSetupAsHost(w, info);
-}
-
-TEST_CASE("a residual threshold stops the device iterations where the host reference stops", "[solve]") {
-    World w(SolverKind::Reference);
-    groundAndPile(w, 64);
-    btContactSolverInfo info = w.stepInfo();
-    info.m_numIterations = 50;
-    info.m_leastSquaresResidualThreshold = 1e-3f;  // reached after about a dozen iterations
-    StepProblem host = gatherPileProblem(w, info);
-    StepProblem dev = host;
-    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info);
-    REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
-    const int hostIterations = solveOnHost(host, layout, settings);
-    const int deviceIterations = solveOnDevice(dev, layout, settings);
-    INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
-    // The threshold is reached before the cap, and at the same iteration: the device computes
-    // SI's residual (impulse change over the row's effective mass) as the host does; a rounding
-    // difference near the threshold could move the stop by one iteration.
-    CHECK(hostIterations < info.m_numIterations);
-    CHECK(std::abs(deviceIterations - hostIterations) <= 1);
 }
