@@ -1,7 +1,7 @@
 // Lays the constraints and their rows out in solve order (set, group, batch), so that every
 // solve pass streams through memory instead of jumping across it. A constraint's rows stay
 // together, kind after kind: [joint rows][normal rows][friction rows][rolling rows].
-// Host reference: the layout checks of tests/test_solve_kernel.cpp (rows read back through the map).
+// Host reference: the layout checks of tests/test_device_solve.cpp (rows read back through the map).
 #include "btocl_shared.h"
 
 inline int rowCount(const btoclConstraint* c) {

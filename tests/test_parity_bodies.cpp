@@ -1,12 +1,11 @@
 // Parity with btSequentialImpulseConstraintSolver for special bodies and set-ups: a kinematic
 // body pushing boxes, a body with a zero linear factor on one axis, two worlds with two solvers.
-#include "ParityWorld.h"
+#include "TestWorld.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 
-const btVector3 kUnitHalf(btScalar(0.5), btScalar(0.5), btScalar(0.5));
 const btVector3 kPusherVelocity(1, 0, 0);
 
 // A kinematic wall moving at 1 m/s into a row of three boxes.
@@ -14,7 +13,7 @@ void pusherScene(World& w) {
     w.addGround();
     w.addKinematicBox(btVector3(btScalar(0.5), btScalar(0.5), btScalar(1.5)), at(btVector3(-1.5, btScalar(0.5), 0)),
                       kPusherVelocity);
-    for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(btScalar(0.2) + btScalar(1.2) * i, btScalar(0.5), 0)));
+    for (int i = 0; i < 3; ++i) w.addUnitBox(btVector3(btScalar(0.2) + btScalar(1.2) * i, btScalar(0.5), 0));
 }
 
 }  // namespace
@@ -78,13 +77,14 @@ TEST_CASE("parity: two worlds with two solvers in one process each match SI", "[
         w.addGround();
         BodyOptions slider;
         slider.linearVelocity = btVector3(3, 0, 0);
-        w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5), 0)), slider);
-        w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5), 3)));
+        w.addUnitBox(btVector3(0, btScalar(0.5), 0), slider);
+        w.addUnitBox(btVector3(0, btScalar(0.5), 3));
     });
     b.build([](World& w) {
         w.addGround();
-        for (int i = 0; i < 4; ++i) w.addBox(kUnitHalf, 2, at(btVector3(btScalar(2 * i), btScalar(0.5), 0)));
-        w.addBox(kUnitHalf, 2, at(btVector3(0, btScalar(1.5), 0)));
+        const btVector3 half(btScalar(0.5), btScalar(0.5), btScalar(0.5));
+        for (int i = 0; i < 4; ++i) w.addBox(half, 2, at(btVector3(btScalar(2 * i), btScalar(0.5), 0)));
+        w.addBox(half, 2, at(btVector3(0, btScalar(1.5), 0)));
     });
     const std::vector<btVector3> startA = positionsOf(a.ref), startB = positionsOf(b.ref);
     for (int i = 0; i < 90; ++i) {  // interleaved: each solver's state must stay its own

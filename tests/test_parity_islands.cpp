@@ -1,24 +1,21 @@
 // Parity with btSequentialImpulseConstraintSolver across Bullet's island handling: islands split
 // (one solveGroup call per island) or not (one call for the world) give the same result, and
 // with sleeping on bodies come to rest and deactivate as with SI.
-#include "ParityWorld.h"
+#include "Scenes.h"
 
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
-
-const btVector3 kUnitHalf(btScalar(0.5), btScalar(0.5), btScalar(0.5));
 
 // Four islands: three columns of three boxes, and a box sliding on its own.
 void islands(World& w) {
     w.addGround();
-    for (int c = -1; c <= 1; ++c)
-        for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(btScalar(6 * c), btScalar(0.5) + i, 0)));
+    for (int c = -1; c <= 1; ++c) addColumn(w, 3, btScalar(6 * c), 0, BodyOptions{});
     BodyOptions slider;
     slider.linearVelocity = btVector3(3, 0, 0);
-    w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5), 6)), slider);
+    w.addUnitBox(btVector3(0, btScalar(0.5), 6), slider);
 }
 
 void setSplit(World& w, bool split) {
@@ -59,9 +56,9 @@ namespace {
 void droppedBoxes(World& w) {
     w.allowSleeping();
     w.addGround();
-    for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(btScalar(3 * i), btScalar(0.7), 0)));
-    w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.7), 4)));
-    w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(1.8), 4)));
+    for (int i = 0; i < 3; ++i) w.addUnitBox(btVector3(btScalar(3 * i), btScalar(0.7), 0));
+    w.addUnitBox(btVector3(0, btScalar(0.7), 4));
+    w.addUnitBox(btVector3(0, btScalar(1.8), 4));
 }
 
 bool allAsleep(const World& w) {

@@ -1,23 +1,18 @@
 // Parity with btSequentialImpulseConstraintSolver under the solver options: warm starting,
 // split impulse, two friction directions, rolling friction.
-#include "ParityWorld.h"
+#include "Scenes.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
 
-const btVector3 kUnitHalf(btScalar(0.5), btScalar(0.5), btScalar(0.5));
-
 // A column of three boxes and, apart from it, a box sliding at 4 m/s.
 void stackAndSlider(World& w) {
-    w.addGround();
-    BodyOptions stacked;
-    stacked.friction = btScalar(0.7);
-    for (int i = 0; i < 3; ++i) w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5) + i, 0)), stacked);
+    groundAndColumn(w, 3);
     BodyOptions slider;
     slider.friction = btScalar(0.4);
     slider.linearVelocity = btVector3(4, 0, 0);
-    w.addBox(kUnitHalf, 1, at(btVector3(5, btScalar(0.5), 0)), slider);
+    w.addUnitBox(btVector3(5, btScalar(0.5), 0), slider);
 }
 
 // Runs the scene 2 s and checks what both solvers must agree on. SI writes the impulses back to
@@ -77,7 +72,7 @@ namespace {
 // shallower ones: the tests set it to -1 mm so that the split path does the recovery.
 void penetrating(World& w) {
     w.addGround();
-    w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.48), 0)));
+    w.addUnitBox(btVector3(0, btScalar(0.48), 0));
     w.addSphere(btScalar(0.5), 1, at(btVector3(3, btScalar(0.48), 0)));
 }
 
@@ -146,7 +141,7 @@ void spinningSlider(World& w) {
     o.friction = btScalar(0.3);
     o.linearVelocity = btVector3(3, 0, 2);
     o.angularVelocity = btVector3(0, 4, 0);
-    w.addBox(kUnitHalf, 1, at(btVector3(0, btScalar(0.5), 0)), o);
+    w.addUnitBox(btVector3(0, btScalar(0.5), 0), o);
 }
 
 }  // namespace

@@ -1,45 +1,11 @@
 // Parity with btSequentialImpulseConstraintSolver on stacking: a column of 10 boxes, a pyramid
 // with a base of 10 and a brick wall stand for 10 s at 10 iterations, with penetration no deeper
-// than 1.5x SI's (the design's quality bar).
-#include "ParityWorld.h"
+// than 1.5x SI's (the design's quality bar); a loose pile of 64 boxes settles where SI's does.
+#include "Scenes.h"
 
-using namespace parity;
+using namespace testworld;
 
 namespace {
-
-BodyOptions stackedBox() {
-    BodyOptions o;
-    o.friction = btScalar(0.7);  // box on box: 0.49 combined
-    return o;
-}
-
-void column(World& w) {
-    w.addGround();
-    const btVector3 half(btScalar(0.5), btScalar(0.5), btScalar(0.5));
-    for (int i = 0; i < 10; ++i) w.addBox(half, 1, at(btVector3(0, btScalar(0.5) + i, 0)), stackedBox());
-}
-
-void pyramid(World& w) {
-    w.addGround();
-    const btVector3 half(btScalar(0.5), btScalar(0.5), btScalar(0.5));
-    for (int row = 0; row < 10; ++row)
-        for (int i = 0; i < 10 - row; ++i)
-            w.addBox(half, 1, at(btVector3(btScalar(i + 0.5 * row - 4.5), btScalar(0.5) + row, 0)), stackedBox());
-}
-
-// Running bond: 1 x 0.5 x 0.5 m bricks, 6 to a row, odd rows of 5 shifted by half a brick so
-// that every brick rests on two below.
-void brickWall(World& w) {
-    w.addGround();
-    const btVector3 half(btScalar(0.5), btScalar(0.25), btScalar(0.25));
-    for (int row = 0; row < 8; ++row) {
-        const int n = (row % 2) ? 5 : 6;
-        const btScalar shift = (row % 2) ? btScalar(0.5) : btScalar(0);
-        for (int i = 0; i < n; ++i)
-            w.addBox(half, 1, at(btVector3(i + shift - btScalar(2.5), btScalar(0.25) + btScalar(0.5) * row, 0)),
-                     stackedBox());
-    }
-}
 
 // A stack stands when no box has dropped or tipped: every box within 5 cm of its start height
 // (a box that falls off or a column that topples drops by at least a box's half height, 25 cm
@@ -89,13 +55,31 @@ void requireStandsAsSI(const std::function<void(World&)>& scene) {
 }  // namespace
 
 TEST_CASE("parity: a column of 10 boxes stands 10 s as with SI", "[parity]") {
-    requireStandsAsSI(column);
+    requireStandsAsSI([](World& w) { groundAndColumn(w, 10); });
 }
 
 TEST_CASE("parity: a pyramid with a base of 10 stands 10 s as with SI", "[parity]") {
-    requireStandsAsSI(pyramid);
+    requireStandsAsSI([](World& w) { groundAndPyramid(w, 10); });
 }
 
 TEST_CASE("parity: a brick wall stands 10 s as with SI", "[parity]") {
-    requireStandsAsSI(brickWall);
+    requireStandsAsSI([](World& w) { groundAndBrickWall(w, 8); });
+}
+
+TEST_CASE("a pile of 64 boxes settles as with SI", "[parity][si]") {
+    Pair p;
+    p.build([](World& w) { groundAndPile(w, 64); });
+    double gap = 0;
+    p.run(120, [&](World& r, World& o) { gap = std::max(gap, double(maxPositionGap(r, o))); });
+    INFO("max position gap " << gap);
+    if (btOpenCLConstraintSolver* solver = p.ours.openCL()) {
+        const btOpenCLSolverStats& stats = solver->getLastStats();
+        INFO("contacts " << stats.numContactPoints << " rows " << stats.numConstraintRows);
+        CHECK(stats.numBodies == 64);
+        CHECK(stats.numContactPoints > 100);
+        CHECK(stats.validationFailures == 0);
+    }
+    // The same pile solved in another Gauss-Seidel order: SI against itself with
+    // SOLVER_RANDMIZE_ORDER parts by 1.2 cm on this scene (1.18 to 1.24 cm, three seeds), so 2 cm.
+    CHECK(gap < 0.02f);
 }

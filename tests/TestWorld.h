@@ -1,9 +1,11 @@
-// Parity harness: one scene built twice in one process, a reference world stepped by
-// btSequentialImpulseConstraintSolver (SI) and a candidate world stepped by
-// btOpenCLConstraintSolver (validate = true), both stepped in lock step at 60 Hz.
+// The tests' Bullet world: a btDiscreteDynamicsWorld with its own collision set-up and solver,
+// owning every body it makes, stepped at a fixed 60 Hz under g = 9.81 m/s^2. Its solver is
+// btSequentialImpulseConstraintSolver (SI), ours (validate = true: every step checks the split
+// and batch invariants), or any solver the test passes in. Scenes to build in it: Scenes.h.
 //
-// BTOCL_PARITY_REFERENCE_ONLY switches the candidate's solver so the tests' logic and tolerances
-// can be checked without our solver:
+// Parity tests build one scene twice (Pair): a reference world stepped by SI and a candidate
+// world stepped by ours, in lock step. BTOCL_PARITY_REFERENCE_ONLY switches the candidate's
+// solver so the tests' logic and tolerances can be checked without our solver:
 //   unset or "0" - btOpenCLConstraintSolver (the real test);
 //   "1"          - SI on both sides (every comparison must hold exactly);
 //   "shuffle"    - SI with SOLVER_RANDMIZE_ORDER on the candidate side: a different Gauss-Seidel
@@ -23,12 +25,12 @@
 #include <string>
 #include <vector>
 
-namespace parity {
+namespace testworld {
 
 enum class SolverKind { Reference, OpenCL, ReferenceShuffled };
 
 constexpr btScalar kDt = btScalar(1) / btScalar(60);  // the fixed 60 Hz step of every test
-constexpr btScalar kG = btScalar(9.81);
+constexpr btScalar kG = btScalar(9.81);               // gravity, along -y
 
 inline SolverKind candidateKind() {
     const char* env = std::getenv("BTOCL_PARITY_REFERENCE_ONLY");
@@ -41,6 +43,11 @@ inline btOpenCLSolverConfig validatingConfig() {
     btOpenCLSolverConfig c;
     c.validate = true;  // every step checks the split and batch invariants
     return c;
+}
+
+inline std::unique_ptr<btConstraintSolver> makeSolver(SolverKind kind, const btOpenCLSolverConfig& config) {
+    if (kind == SolverKind::OpenCL) return std::make_unique<btOpenCLConstraintSolver>(config);
+    return std::make_unique<btSequentialImpulseConstraintSolver>();  // shuffled or not: see World::step
 }
 
 // A kinematic body's motion state: the body moves along a straight line at constant velocity;
@@ -73,15 +80,14 @@ struct BodyOptions {
 class World {
 public:
     explicit World(SolverKind kind, const btOpenCLSolverConfig& config = validatingConfig())
-        : m_kind(kind),
-          m_dispatcher(&m_collisionConfig) {
-        if (kind == SolverKind::OpenCL) {
-            auto ocl = std::make_unique<btOpenCLConstraintSolver>(config);
-            m_openCL = ocl.get();
-            m_solver = std::move(ocl);
-        } else {
-            m_solver = std::make_unique<btSequentialImpulseConstraintSolver>();
-        }
+        : World(makeSolver(kind, config)) {
+        m_shuffleOrder = kind == SolverKind::ReferenceShuffled;
+    }
+    // With the solver the test passes in.
+    explicit World(std::unique_ptr<btConstraintSolver> solver)
+        : m_dispatcher(&m_collisionConfig),
+          m_solver(std::move(solver)),
+          m_openCL(dynamic_cast<btOpenCLConstraintSolver*>(m_solver.get())) {
         m_world = std::make_unique<btDiscreteDynamicsWorld>(&m_dispatcher, &m_broadphase, m_solver.get(),
                                                              &m_collisionConfig);
         m_world->setGravity(btVector3(0, -kG, 0));
@@ -96,9 +102,15 @@ public:
     World(const World&) = delete;
     World& operator=(const World&) = delete;
 
-    SolverKind kind() const { return m_kind; }
     btDiscreteDynamicsWorld& dyn() { return *m_world; }
+    btCollisionDispatcher& dispatcher() { return m_dispatcher; }
     btContactSolverInfo& info() { return m_world->getSolverInfo(); }
+    // The solver settings with the fixed step, as the world hands them to its solver.
+    btContactSolverInfo stepInfo() const {
+        btContactSolverInfo i = m_world->getSolverInfo();
+        i.m_timeStep = kDt;
+        return i;
+    }
     btOpenCLConstraintSolver* openCL() { return m_openCL; }  // null unless our solver runs here
     const std::vector<btRigidBody*>& bodies() const { return m_bodyList; }
     btRigidBody* body(size_t i) const { return m_bodyList.at(i); }
@@ -112,6 +124,11 @@ public:
     btRigidBody* addBox(const btVector3& halfExtents, btScalar mass, const btTransform& pose,
                         const BodyOptions& o = {}) {
         return addBody(std::make_unique<btBoxShape>(halfExtents), mass, pose, o);
+    }
+    // A 1 m cube of 1 kg.
+    btRigidBody* addUnitBox(const btVector3& center, const BodyOptions& o = {}) {
+        const btVector3 half(btScalar(0.5), btScalar(0.5), btScalar(0.5));
+        return addBox(half, 1, btTransform(btQuaternion::getIdentity(), center), o);
     }
     btRigidBody* addSphere(btScalar radius, btScalar mass, const btTransform& pose, const BodyOptions& o = {}) {
         return addBody(std::make_unique<btSphereShape>(radius), mass, pose, o);
@@ -152,7 +169,7 @@ public:
 
     // One fixed 60 Hz step. With our solver, the invariants it validated must all hold.
     void step() {
-        if (m_kind == SolverKind::ReferenceShuffled) info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
+        if (m_shuffleOrder) info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
         m_time += kDt;  // kinematic bodies read the pose at the end of this step
         m_world->stepSimulation(kDt, 0);
         ++m_steps;
@@ -165,6 +182,11 @@ public:
     }
 
     // Contact queries over the dispatcher's manifolds as they are after the last step.
+    std::vector<btPersistentManifold*> manifolds() {
+        std::vector<btPersistentManifold*> out;
+        for (int i = 0; i < m_dispatcher.getNumManifolds(); ++i) out.push_back(m_dispatcher.getManifoldByIndexInternal(i));
+        return out;
+    }
     int numContactPoints() const {
         int n = 0;
         for (int i = 0; i < m_dispatcher.getNumManifolds(); ++i)
@@ -234,7 +256,6 @@ private:
         return keepBody(std::move(body));
     }
 
-    SolverKind m_kind;
     btDefaultCollisionConfiguration m_collisionConfig;
     btCollisionDispatcher m_dispatcher;
     btDbvtBroadphase m_broadphase;
@@ -246,6 +267,7 @@ private:
     std::vector<std::unique_ptr<btRigidBody>> m_bodies;
     std::vector<btRigidBody*> m_bodyList;
     std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
+    bool m_shuffleOrder = false;  // SI in a new order every iteration (SolverKind::ReferenceShuffled)
     btScalar m_time = 0;
     int m_steps = 0;
     bool m_allowSleeping = false;
@@ -328,4 +350,4 @@ inline bool closeRel(double a, double b, double rel, double floor) {
     return std::fabs(a - b) <= rel * std::max({std::fabs(a), std::fabs(b), floor});
 }
 
-}  // namespace parity
+}  // namespace testworld

@@ -1,0 +1,45 @@
+// One step's problem gathered from a test world, and solved on the device: the steps the
+// device-solve and row-setup tests share.
+#pragma once
+
+#include "BulletGather.h"
+#include "DeviceSolver.h"
+#include "TestWorld.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace btocl::test {
+
+// One step's problem, gathered from the world's bodies and manifolds as they are.
+inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
+    StepGatherer builder;
+    builder.begin(info, setup);
+    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+    builder.addBodies(&objects[0], objects.size());
+    const std::vector<btPersistentManifold*> manifolds = w.manifolds();
+    builder.addManifolds(manifolds.data(), int(manifolds.size()));
+    StepProblem p = builder.finish();
+    builder.releaseBodies();
+    return p;
+}
+
+// Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order.
+// Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
+inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
+                         std::vector<btoclRow>* rows = nullptr) {
+    OclRuntime rt("");
+    DeviceSolver solver(rt, 64);
+    solver.upload(p);
+    const DeviceLayoutView view = solver.uploadLayout(layout);
+    solver.arrange(p, view);
+    solver.iterate(p, view, settings);
+    const int iterations = solver.download(p, settings);
+    if (rows) *rows = solver.downloadRows(p);
+    return iterations;
+}
+
+inline float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
+
+}  // namespace btocl::test

@@ -1,0 +1,168 @@
+// What a user of btOpenCLConstraintSolver sees beside the physics: a clear error for bad input,
+// joints (they come in a later issue) and bad configurations, a world that steps on after an
+// error, solveGroup called by hand, plausible statistics, a device name. These always run our
+// solver.
+#include "TestWorld.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <catch2/catch.hpp>
+
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <string>
+
+using namespace testworld;
+
+namespace {
+
+// A box settled on the ground by SI, and our solver driven by hand on its contacts.
+struct HandDriven {
+    World w{SolverKind::Reference};
+    btRigidBody* box = settle(w);
+    btOpenCLConstraintSolver solver;
+    btContactSolverInfo info = w.stepInfo();
+    std::vector<btPersistentManifold*> manifolds = w.manifolds();
+
+    static btRigidBody* settle(World& world) {
+        world.addGround();
+        btRigidBody* b = world.addUnitBox(btVector3(0, 0.5f, 0));
+        for (int s = 0; s < 20; ++s) world.step();
+        return b;
+    }
+    void solveGroup(const btContactSolverInfo& with) {
+        btCollisionObject* bodies[] = {box};
+        solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, with, nullptr, &w.dispatcher());
+    }
+};
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+bool finiteState(const btRigidBody* b) {
+    const btVector3 p = pos(b), v = b->getLinearVelocity(), w = b->getAngularVelocity();
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(p[k]) || !std::isfinite(v[k]) || !std::isfinite(w[k])) return false;
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("a non-finite body velocity is a clear error and the world steps on once it is fixed", "[errors]") {
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    btRigidBody* box = w.addUnitBox(btVector3(0, 0.5f, 0));
+    btRigidBody* other = w.addUnitBox(btVector3(3, 0.5f, 0));
+    for (int s = 0; s < 10; ++s) w.step();
+    const btVector3 otherBefore = other->getWorldTransform().getOrigin();
+    box->setLinearVelocity(btVector3(std::numeric_limits<btScalar>::quiet_NaN(), 0, 0));
+    try {
+        w.step();
+        FAIL("a NaN velocity should be reported");
+    } catch (const btOpenCLSolverError& e) {
+        INFO(e.what());
+        CHECK(std::string(e.what()).find("non-finite") != std::string::npos);
+    }
+    // The solver changed nothing: the healthy box kept its place, and neither box is left marked
+    // as being in a solver (Bullet's own mark for the static ground is its business).
+    CHECK((other->getWorldTransform().getOrigin() - otherBefore).length() < 1e-3f);
+    CHECK(box->getCompanionId() == -1);
+    CHECK(other->getCompanionId() == -1);
+    box->setLinearVelocity(btVector3(0, 0, 0));
+    box->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f, 0)));
+    for (int s = 0; s < 30; ++s) w.step();
+    CHECK(std::fabs(box->getWorldTransform().getOrigin().y() - 0.5f) < 0.02f);
+}
+
+TEST_CASE("bad configurations are refused with a message", "[errors]") {
+    btOpenCLSolverConfig config;
+    config.workGroupSize = 48;
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(config), Catch::Contains("workGroupSize"));
+    config = btOpenCLSolverConfig{};
+    config.batchIterations = 0;
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(config), Catch::Contains("batchIterations"));
+    config = btOpenCLSolverConfig{};
+    config.cellSize = -1;
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(config), Catch::Contains("cellSize"));
+}
+
+TEST_CASE("solveGroup called outside prepareSolve/allSolved solves at once", "[api]") {
+    // Some users drive a solver by hand; then each solveGroup call is a whole step.
+    HandDriven h;
+    REQUIRE_FALSE(h.manifolds.empty());
+    h.box->setLinearVelocity(btVector3(0, -1, 0));  // moving into the ground
+    h.solveGroup(h.info);
+    CHECK(h.solver.getLastStats().numContactPoints == 4);
+    CHECK(h.box->getLinearVelocity().y() > -0.05f);  // the contacts stopped it
+    CHECK(h.box->getCompanionId() == -1);
+}
+
+TEST_CASE("after an error inside a step, a hand-driven solveGroup still solves at once", "[errors]") {
+    // The error ends the step's prepareSolve/allSolved bracket: the solver must not wait for an
+    // allSolved that will never come.
+    HandDriven h;
+    h.solver.prepareSolve(1, int(h.manifolds.size()));
+    btContactSolverInfo bad = h.info;
+    bad.m_timeStep = 0;
+    CHECK_THROWS_AS(h.solveGroup(bad), btOpenCLSolverError);
+    CHECK(h.box->getCompanionId() == -1);
+    h.box->setLinearVelocity(btVector3(0, -1, 0));
+    h.solveGroup(h.info);
+    CHECK(h.solver.getLastStats().numContactPoints == 4);
+    CHECK(h.box->getLinearVelocity().y() > -0.05f);
+}
+
+TEST_CASE("a world with a joint gets a btOpenCLSolverError that names joints", "[errors]") {
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    btRigidBody* a = w.addUnitBox(btVector3(0, 3, 0));
+    btRigidBody* b = w.addUnitBox(btVector3(1, 3, 0));
+    btPoint2PointConstraint* joint = w.addConstraint(std::make_unique<btPoint2PointConstraint>(
+        *a, *b, btVector3(btScalar(0.5), 0, 0), btVector3(btScalar(-0.5), 0, 0)));
+    std::string message;
+    try {
+        w.step();
+        FAIL("stepping a world with a btTypedConstraint should throw btOpenCLSolverError");
+    } catch (const btOpenCLSolverError& e) {
+        message = e.what();
+    }
+    INFO("message: " << message);
+    REQUIRE(lower(message).find("joint") != std::string::npos);
+    // The error leaves the world usable: without the joint, stepping works and stays finite.
+    w.dyn().removeConstraint(joint);
+    for (int i = 0; i < 30; ++i) w.step();
+    REQUIRE(finiteState(a));
+    REQUIRE(finiteState(b));
+    REQUIRE(pos(a).y() < 3);  // it fell
+}
+
+TEST_CASE("getLastStats counts the bodies and contact points of a known scene", "[api]") {
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    for (int i = 0; i < 3; ++i) w.addUnitBox(btVector3(btScalar(3 * i), btScalar(0.5), 0));
+    for (int i = 0; i < 10; ++i) w.step();
+    const btOpenCLSolverStats& s = w.openCL()->getLastStats();
+    CAPTURE(s.numBodies, s.numContactPoints, s.numJointRows, s.numConstraintRows, s.numCellGroups,
+            s.numBatchesMax, s.numBatchesMean, s.msTotal);
+    // A box resting flat on a box gets 4 points (btBoxBoxDetector clips the faces).
+    REQUIRE(w.numContactPoints() == 12);
+    REQUIRE(s.numContactPoints == w.numContactPoints());
+    // Three dynamic boxes, plus the ground if the solver counts static bodies it touches.
+    REQUIRE(s.numBodies >= 3);
+    REQUIRE(s.numBodies <= 4);
+    REQUIRE(s.numJointRows == 0);
+    // Each point has a normal row and (friction > 0) at least one friction row.
+    REQUIRE(s.numConstraintRows >= 2 * s.numContactPoints);
+    REQUIRE(s.numCellGroups >= 1);
+    // Some group has a batch (the 4 points of a box may fall into different cells, so no more).
+    REQUIRE(s.numBatchesMax >= 1);
+    REQUIRE(s.validationFailures == 0);
+    REQUIRE(s.msTotal > 0);
+}
+
+TEST_CASE("getDeviceName names the device", "[api]") {
+    btOpenCLConstraintSolver solver(validatingConfig());
+    REQUIRE_FALSE(solver.getDeviceName().empty());
+}
