@@ -1,8 +1,10 @@
-// The row setup on the device (kernels/setup.cl, after the arrange kernel, with the warm start)
-// against the host's setup of SI's rows, on contacts gathered from a real world.
+// Contact rows as btSequentialImpulseConstraintSolver sets them up: our host setup
+// (HostRowSetup) and the device's (kernels/setup.cl after the arrange kernel, then the warm-start
+// pass) against the rows and warm-started solver bodies of Bullet's own solver, stopped after its
+// setup, on contacts gathered from a real world.
 #include "GatherAndSolve.h"
-#include "Scenes.h"
 #include "HostSolver.h"
+#include "Scenes.h"
 #include "SerialLayout.h"
 #include "StepProblem.h"
 #include "btOpenCLConstraintSolver.h"
@@ -19,62 +21,124 @@ using testworld::groundAndPile;
 
 namespace {
 
-float rowFieldGap(const btoclFloat4& a, const btoclFloat4& b) {
-    return std::max({relDiff(a.x, b.x), relDiff(a.y, b.y), relDiff(a.z, b.z), relDiff(a.w, b.w)});
+// Bullet's solver, stopped after its setup: its rows and solver bodies as it made them.
+class SetupOnlySI : public btSequentialImpulseConstraintSolver {
+public:
+    void setUp(World& w, const btContactSolverInfo& info) {
+        btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+        std::vector<btPersistentManifold*> manifolds = w.manifolds();
+        solveGroupCacheFriendlySetup(&objects[0], objects.size(), manifolds.data(), int(manifolds.size()), nullptr, 0,
+                                     info, nullptr);
+    }
+    const btConstraintArray& normalRows() const { return m_tmpSolverContactConstraintPool; }
+    const btConstraintArray& frictionRows() const { return m_tmpSolverContactFrictionConstraintPool; }
+    const btConstraintArray& rollingRows() const { return m_tmpSolverContactRollingFrictionConstraintPool; }
+    const btSolverBody& body(int id) const { return m_tmpSolverBodyPool[id]; }
+    int numBodies() const { return m_tmpSolverBodyPool.size(); }
+};
+
+float vectorGap(const btVector3& a, const btoclFloat4& b) {
+    return std::max({relDiff(a.x(), b.x), relDiff(a.y(), b.y), relDiff(a.z(), b.z)});
+}
+
+// The largest relative gap between one of SI's rows and ours, over every field the solve reads;
+// `sameBodies` is cleared when they act on other bodies or refer to another normal row.
+float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const StepProblem& p,
+             bool compareNormalIndex, bool& sameBodies) {
+    if (bullet.body(si.m_solverBodyIdA).m_originalBody != p.original[size_t(r.bodyA)] ||
+        bullet.body(si.m_solverBodyIdB).m_originalBody != p.original[size_t(r.bodyB)] ||
+        (compareNormalIndex && si.m_frictionIndex != r.frictionIndex))
+        sameBodies = false;
+    return std::max({vectorGap(si.m_contactNormal1, r.contactNormal1), vectorGap(si.m_relpos1CrossNormal, r.relpos1CrossNormal),
+                     vectorGap(si.m_contactNormal2, r.contactNormal2), vectorGap(si.m_relpos2CrossNormal, r.relpos2CrossNormal),
+                     vectorGap(si.m_angularComponentA, r.angularComponentA),
+                     vectorGap(si.m_angularComponentB, r.angularComponentB), relDiff(si.m_rhs, BTOCL_ROW_RHS(r)),
+                     relDiff(si.m_rhsPenetration, BTOCL_ROW_RHS_PENETRATION(r)), relDiff(si.m_cfm, BTOCL_ROW_CFM(r)),
+                     relDiff(si.m_jacDiagABInv, BTOCL_ROW_JAC_DIAG_INV(r)), relDiff(si.m_lowerLimit, BTOCL_ROW_LOWER(r)),
+                     relDiff(si.m_upperLimit, BTOCL_ROW_UPPER(r)), relDiff(si.m_appliedImpulse, BTOCL_ROW_APPLIED(r)),
+                     relDiff(si.m_friction, BTOCL_ROW_FRICTION(r))});
+}
+
+// Holds one problem's rows (gather order), friction directions and warm-started bodies to SI's.
+void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bullet,
+                 const std::vector<btVector3>& siDir1, const std::vector<btVector3>& siDir2) {
+    INFO(path << " setup");
+    REQUIRE(p.numNormalRows == bullet.normalRows().size());
+    REQUIRE(p.numFrictionRows == bullet.frictionRows().size());
+    REQUIRE(p.numRollingRows == bullet.rollingRows().size());
+    // The same formulas in the same order; Bullet's vector code may associate a dot product
+    // differently and the OpenCL compiler may fuse multiply-adds: the last bits only, so 1e-5
+    // relative (absolute below 1).
+    float worst = 0;
+    int worstRow = -1;
+    bool sameBodies = true;
+    auto check = [&](const btConstraintArray& pool, int base, bool compareNormalIndex) {
+        for (int k = 0; k < pool.size(); ++k) {
+            const float gap = rowGap(pool[k], p.rows[size_t(base + k)], bullet, p, compareNormalIndex, sameBodies);
+            if (gap > worst) {
+                worst = gap;
+                worstRow = base + k;
+            }
+        }
+    };
+    check(bullet.normalRows(), 0, false);
+    check(bullet.frictionRows(), p.numNormalRows, true);
+    check(bullet.rollingRows(), p.numNormalRows + p.numFrictionRows, true);
+    for (int i = 0; i < p.numNormalRows; ++i)
+        if (p.points[size_t(i)].firstFrictionRow - p.numNormalRows != bullet.normalRows()[i].m_frictionIndex)
+            sameBodies = false;
+    CHECK(sameBodies);
+    INFO("worst relative row difference " << worst << " at row " << worstRow << " of " << p.numRows());
+    CHECK(worst < 1e-5f);
+
+    float worstDir = 0;
+    for (int i = 0; i < p.numNormalRows; ++i)
+        worstDir = std::max({worstDir, vectorGap(siDir1[size_t(i)], p.lateralDirs[2 * size_t(i)]),
+                             vectorGap(siDir2[size_t(i)], p.lateralDirs[2 * size_t(i) + 1])});
+    INFO("worst relative friction direction difference " << worstDir);
+    CHECK(worstDir < 1e-5f);
+
+    // Warm start: the same impulses summed into the bodies, in another order on the device.
+    float worstDelta = 0;
+    for (int id = 0; id < bullet.numBodies(); ++id) {
+        btSolverBody& sb = const_cast<btSolverBody&>(bullet.body(id));
+        const auto ours = std::find(p.original.begin(), p.original.end(), sb.m_originalBody);
+        if (!sb.m_originalBody || ours == p.original.end()) continue;
+        const btoclBodyDelta& d = p.deltas[size_t(ours - p.original.begin())];
+        worstDelta = std::max({worstDelta, vectorGap(sb.internalGetDeltaLinearVelocity(), d.deltaLinearVelocity),
+                               vectorGap(sb.internalGetDeltaAngularVelocity(), d.deltaAngularVelocity)});
+    }
+    INFO("worst relative warm-start velocity difference " << worstDelta);
+    CHECK(worstDelta < 1e-5f);
 }
 
 }  // namespace
 
-// Gathers the world's contacts both ways (device records, host rows), sets the device rows up and
-// applies the warm start, and compares rows and starting velocity changes with the host's.
-void requireDeviceSetupAsHost(World& w, const btContactSolverInfo& info) {
-    StepProblem dev = gatherProblem(w, info, RowSetup::Device);
+// Gathers the world's contacts for both setups, sets the rows up (and warm-starts) on the host and
+// on the device, then lets SI set up the same contacts and compares.
+void requireRowsAsSI(World& w, const btContactSolverInfo& info, bool deviceToo = true) {
     StepProblem host = gatherProblem(w, info, RowSetup::Host);
-    REQUIRE(dev.rowsOnDevice);
+    StepProblem dev = gatherProblem(w, info, RowSetup::Device);
     REQUIRE_FALSE(host.rowsOnDevice);
-    REQUIRE(dev.numRows() == host.numRows());
-    REQUIRE(dev.constraints.size() == host.constraints.size());
-
+    REQUIRE(dev.rowsOnDevice == deviceToo);
     SolveSettings settings = SolveSettings::from(info);
-    settings.numIterations = 0;  // warm start only: compare the starting deltas
-    const BatchLayout serial = buildSerialLayout(int(dev.constraints.size()));
-    solveOnDevice(dev, serial, settings, &dev.rows);
-    solveOnHost(host, serial, settings);
+    settings.numIterations = 0;  // the warm start only
+    solveOnHost(host, buildSerialLayout(int(host.constraints.size())), settings);
+    solveOnDevice(dev, buildSerialLayout(int(dev.constraints.size())), settings, &dev.rows);
 
-    // The kernel evaluates SI's formulas in the same order; fused multiply-adds and OpenCL's own
-    // normalize() change the last bits only: 1e-5 relative (absolute below 1).
-    float worst = 0;
-    int worstRow = -1, wrongBodies = 0;
-    for (int i = 0; i < host.numRows(); ++i) {
-        const btoclRow& a = host.rows[size_t(i)];
-        const btoclRow& b = dev.rows[size_t(i)];
-        if (a.bodyA != b.bodyA || a.bodyB != b.bodyB || a.frictionIndex != b.frictionIndex) ++wrongBodies;
-        const float gap = std::max({rowFieldGap(a.contactNormal1, b.contactNormal1),
-                                    rowFieldGap(a.relpos1CrossNormal, b.relpos1CrossNormal),
-                                    rowFieldGap(a.contactNormal2, b.contactNormal2),
-                                    rowFieldGap(a.relpos2CrossNormal, b.relpos2CrossNormal),
-                                    rowFieldGap(a.angularComponentA, b.angularComponentA),
-                                    rowFieldGap(a.angularComponentB, b.angularComponentB),
-                                    rowFieldGap(a.impulses, b.impulses)});
-        if (gap > worst) {
-            worst = gap;
-            worstRow = i;
-        }
+    SetupOnlySI bullet;  // last: it writes friction directions and flags to the points
+    bullet.setUp(w, info);
+    std::vector<btVector3> dir1, dir2;
+    for (btManifoldPoint* cp : host.manifoldPoints) {
+        dir1.push_back(cp->m_lateralFrictionDir1);
+        dir2.push_back(cp->m_lateralFrictionDir2);
     }
-    CHECK(wrongBodies == 0);
-    INFO("worst relative row difference " << worst << " at row " << worstRow << " of " << host.numRows());
-    CHECK(worst < 1e-5f);
-    // Warm start: the same impulses summed into the bodies in another order.
-    float worstDelta = 0;
-    for (size_t i = 0; i < host.deltas.size(); ++i)
-        worstDelta = std::max({worstDelta, rowFieldGap(host.deltas[i].deltaLinearVelocity, dev.deltas[i].deltaLinearVelocity),
-                               rowFieldGap(host.deltas[i].deltaAngularVelocity, dev.deltas[i].deltaAngularVelocity)});
-    INFO("worst relative warm-start delta difference " << worstDelta);
-    CHECK(worstDelta < 1e-5f);
+    requireAsSI("host", host, bullet, dir1, dir2);
+    if (deviceToo) requireAsSI("device", dev, bullet, dir1, dir2);
 }
 
-TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
-    auto mode = GENERATE(0, 1, 2, 3, 4, 5);
+TEST_CASE("contact rows are set up on the host and on the device as SI sets them up", "[setup]") {
+    auto mode = GENERATE(0, 1, 2, 3, 4, 5, 6);
     CAPTURE(mode);
     World w(SolverKind::Reference);
     groundAndPile(w, 48);
@@ -121,12 +185,22 @@ TEST_CASE("device row setup matches the host setup of SI's rows", "[setup]") {
             }
         }
     }
-    requireDeviceSetupAsHost(w, info);
+    if (mode == 6) {
+        // Anisotropic friction (sliding and rolling) on some bodies: the step sets its rows up on
+        // the host, with the directions scaled in each body's frame.
+        for (size_t i = 2; i < w.bodies().size(); i += 4) {
+            w.body(i)->setAnisotropicFriction(btVector3(1, 0.3f, 0.6f), btCollisionObject::CF_ANISOTROPIC_FRICTION);
+            w.body(i)->setRollingFriction(0.1f);
+        }
+        w.body(6)->setAnisotropicFriction(btVector3(0.5f, 0, 0), btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+        info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    }
+    requireRowsAsSI(w, info, mode != 6);
 }
 
-TEST_CASE("a large world's contacts set up on the device as on the host", "[setup]") {
+TEST_CASE("a large world's contacts are set up on the host and on the device as SI sets them up", "[setup]") {
     // Over 4,000 manifolds and 50,000 rows, with rolling friction on some: every row, body index
-    // and starting impulse as the host setup's.
+    // and starting impulse as SI's.
     World w(SolverKind::Reference);
     w.addGround();
     for (int y = 0; y < 12; ++y)
@@ -139,5 +213,5 @@ TEST_CASE("a large world's contacts set up on the device as on the host", "[setu
     // Friction along the plane space: a direction taken from a nearly-zero sliding velocity is
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
-    requireDeviceSetupAsHost(w, info);
+    requireRowsAsSI(w, info);
 }
