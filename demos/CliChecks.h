@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -53,6 +55,20 @@ inline CLI::Validator numberIn(double lo, double hi) {
         return "";
     };
     return CLI::Validator(check, "FLOAT in " + range);
+}
+
+// Parses a demo's command line. Returns the exit status when the program should stop here: 0
+// after --help, 2 (with a message naming the program) after a bad argument.
+inline std::optional<int> parseOrExitCode(CLI::App& app, int argc, char** argv, const char* program) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "%s: %s\nRun %s --help for the options.\n", program, e.what(), program);
+        return 2;
+    }
+    return std::nullopt;
 }
 
 }  // namespace btdemo

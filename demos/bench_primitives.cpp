@@ -65,14 +65,7 @@ int main(int argc, char** argv) {
         ->type_name("K")
         ->transform(btdemo::integerIn(2, long(DevicePrimitives::maxSmallKeyRange())))
         ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "bench_primitives: %s\nRun bench_primitives --help for the options.\n", e.what());
-        return 2;
-    }
+    if (const std::optional<int> status = btdemo::parseOrExitCode(app, argc, argv, "bench_primitives")) return *status;
     try {
         OclRuntime rt("");
         std::fprintf(stderr, "device: %s; building both backends (Boost.Compute compiles at first use)\n",

@@ -7,6 +7,7 @@
 //                           prints both runs' JSON in one object
 //   --boost                 also times the Boost.Compute backend (not used by default):
 //                           first construction, again on the same context, on a new context
+#include "CliChecks.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "KernelSources.h"
@@ -25,6 +26,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -212,14 +214,7 @@ int main(int argc, char** argv) {
     app.add_flag("--cold-warm", coldWarm,
                  "two runs in child processes: cold (a fresh POCL_CACHE_DIR), then warm (the same one)");
     app.add_flag("--boost", withBoost, "also time constructing the Boost.Compute backend (first, same and new context)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "startup: %s\nRun startup --help for the options.\n", e.what());
-        return 2;
-    }
+    if (const std::optional<int> status = btdemo::parseOrExitCode(app, argc, argv, "startup")) return *status;
     try {
         if (coldWarm) {
             std::array<char, 64> tmpl{};
