@@ -17,6 +17,9 @@ struct BatchLayout {
     std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};  // set 4 = overflow
     float cellSize = 0;
     int numOverflowConstraints = 0;
+    // The serial path's layout: each group is one run that one work-item walks in order, not a
+    // sequence of batches of independent constraints.
+    bool serialRuns = false;
 };
 
 // The dynamic body on one side (0 = A, 1 = B) of a constraint, or -1: only dynamic bodies lock.

@@ -29,7 +29,7 @@ size_t batchLocalBytes(int wg, int window) {
 
 }  // namespace
 
-DeviceBatcher::DeviceBatcher(const OclRuntime& rt) : m_rt(rt), m_prims(rt) {
+DeviceBatcher::DeviceBatcher(const OclRuntime& rt, DevicePrimitives& primitives) : m_rt(rt), m_prims(primitives) {
     // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
     m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
     m_splitBounds = rt.makeKernel(m_splitProgram, "splitBounds");
@@ -81,15 +81,15 @@ void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t items, size_t local, std:
 }
 
 void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
-                          const std::vector<SplitBody>& bodies, const SplitParams& params) {
+                          const std::vector<SplitBody>& bodies, const SplitParams& params,
+                          const LayoutOptions& options) {
     if (params.batchIterations < 1)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
     const auto start = std::chrono::steady_clock::now();
-    BatchProgram& batch = batchProgram(params.workGroupSize);
-    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    m_options = options;
     m_n = n;
     m_setGroupStart.fill(0);
     m_splitEvents.clear();
@@ -97,20 +97,48 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     m_stats = DeviceBatchStats{};
     m_statsReady = false;
     if (n == 0) return;
+    for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(m_rt, size_t(n));
+    m_groups.reserve(m_rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
+    if (options.oneGroup)
+        layOutOneGroup(n);
+    else
+        split(constraints, n, bodies, params);
+    m_stats.msSplit = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    m_stats.numConstraints = n;
+    if (!options.localBatches) return;  // the split (or the one group) wrote one run per group
+    BatchProgram& batch = batchProgram(params.workGroupSize);
+    setArgs(batch.kernel, constraints.buffer(), m_sorted.buffer(), m_groups.buffer(), params.batchIterations,
+            m_solveOrder.buffer(), m_batchEnd.buffer());
+    enqueue(batch.kernel, size_t(numGroups()) * size_t(params.workGroupSize), size_t(params.workGroupSize),
+            m_batchEvents, "enqueueing batchGroups");
+}
 
+// Every constraint in group 0 of set 0, in gather order.
+void DeviceBatcher::layOutOneGroup(int n) {
+    m_identityHost.resize(size_t(n));
+    for (int i = 0; i < n; ++i) m_identityHost[size_t(i)] = i;
+    m_sorted.enqueueWrite(m_rt, m_identityHost);
+    m_oneGroupHost = btoclGroup{0, n, m_options.localBatches ? 0 : 1, 0};
+    m_groups.enqueueWrite(m_rt, &m_oneGroupHost, 1);
+    if (!m_options.localBatches) m_batchEnd.fill(m_rt, n, 1);
+    m_setGroupStart.fill(1);
+    m_setGroupStart[0] = 0;
+}
+
+// The global split (DESIGN §1): cell keys, a stable sort by key, one group per non-empty cell.
+void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
+                          const SplitParams& params) {
     const OclRuntime& rt = m_rt;
+    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
     m_overflowHost.assign(plan.overflowBody.begin(), plan.overflowBody.end());
     if (m_overflowHost.empty()) m_overflowHost.push_back(0);  // no zero-sized buffers
-    cl::Event upload;
-    m_overflowBody.write(rt, m_overflowHost.data(), m_overflowHost.size(), &upload);
+    m_overflowBody.enqueueWrite(rt, m_overflowHost);
     m_partMin.reserve(rt, kBoundsChunks);
     m_partMax.reserve(rt, kBoundsChunks);
     m_grid.reserve(rt, 1);
     m_keys.reserve(rt, size_t(n));
-    for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(rt, size_t(n));
     for (DeviceBuffer<int>* b : {&m_binStart, &m_binEnd, &m_groupOfBin}) b->reserve(rt, BTOCL_SPLIT_NUM_KEYS);
     m_summary.reserve(rt, kSummaryInts);
-    m_groups.reserve(rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
 
     const int chunk = (n + kBoundsChunks - 1) / kBoundsChunks;
     const cl::Buffer& cb = constraints.buffer();
@@ -136,26 +164,19 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     enqueue(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
     setArgs(m_splitWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
-            m_groups.buffer());
+            m_groups.buffer(), m_options.localBatches ? 0 : 1, m_batchEnd.buffer());
     enqueue(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
     setArgs(m_splitWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_summary.buffer());
     enqueue(m_splitWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
 
-    // The one read-back: the batch launch needs the number of groups.
+    // The one read-back: the launches over groups need the number of groups.
     int summary[kSummaryInts];
     m_summary.read(rt, summary, kSummaryInts);
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
-    m_stats.msSplit = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    m_stats.numConstraints = n;
     m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
     m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
     std::memcpy(&m_stats.cellSize, &summary[BTOCL_NUM_SETS + 3], sizeof(float));
-
-    setArgs(batch.kernel, cb, m_sorted.buffer(), m_groups.buffer(), params.batchIterations, m_solveOrder.buffer(),
-            m_batchEnd.buffer());
-    enqueue(batch.kernel, size_t(numGroups()) * size_t(params.workGroupSize), size_t(params.workGroupSize),
-            m_batchEvents, "enqueueing batchGroups");
 }
 
 const DeviceBatchStats& DeviceBatcher::stats() const {
@@ -176,12 +197,13 @@ const DeviceBatchStats& DeviceBatcher::stats() const {
 BatchLayout DeviceBatcher::download() const {
     m_rt.finish("batching constraints on the device");
     BatchLayout layout;
-    layout.solveOrder = m_solveOrder.read(m_rt, size_t(m_n));
+    layout.solveOrder = solveOrder().read(m_rt, size_t(m_n));
     layout.batchEnd = m_batchEnd.read(m_rt, size_t(m_n));
     layout.groups = m_groups.read(m_rt, size_t(numGroups()));
     layout.setGroupStart = m_setGroupStart;
     layout.cellSize = m_stats.cellSize;
     layout.numOverflowConstraints = m_stats.numOverflowConstraints;
+    layout.serialRuns = !m_options.localBatches;
     return layout;
 }
 

@@ -16,6 +16,16 @@
 
 namespace btocl {
 
+// How a step's constraints are laid out for the solve.
+struct LayoutOptions {
+    // A small step: every constraint in one group (set 0), no global split; the solve then runs
+    // the whole step in one launch of one work-group.
+    bool oneGroup = false;
+    // Wide path: local batches of independent constraints per group. Serial path: none; a group
+    // is one run that one work-item walks in order (numBatches 1).
+    bool localBatches = true;
+};
+
 struct DeviceBatchStats {
     int numConstraints = 0;
     int numCellGroups = 0;          // groups of sets 0..3 (the overflow group is not a cell)
@@ -29,18 +39,19 @@ struct DeviceBatchStats {
 
 class DeviceBatcher {
 public:
-    // Builds the split program and the batch program for 64 lanes. `rt` must outlive this object.
-    explicit DeviceBatcher(const OclRuntime& rt);
+    // Builds the split program and the batch program for 64 lanes. `rt` and `primitives` (the sort
+    // and scan) must outlive this object.
+    DeviceBatcher(const OclRuntime& rt, DevicePrimitives& primitives);
 
     // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
     // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
     // edge), needed to size the batch launch. bodies: one entry per body index the constraints use.
     // Throws btOpenCLSolverError on bad parameters or a device error.
     void build(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
-               const SplitParams& params);
+               const SplitParams& params, const LayoutOptions& options = {});
 
     // The layout of the last build, on the device (valid until the next build).
-    const DeviceBuffer<int>& solveOrder() const { return m_solveOrder; }
+    const DeviceBuffer<int>& solveOrder() const { return m_options.localBatches ? m_solveOrder : m_sorted; }
     const DeviceBuffer<int>& batchEnd() const { return m_batchEnd; }
     const DeviceBuffer<btoclGroup>& groups() const { return m_groups; }
     const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const { return m_setGroupStart; }
@@ -62,11 +73,15 @@ private:
         int window = 0;
     };
     BatchProgram& batchProgram(int workGroupSize);
+    void layOutOneGroup(int n);
+    void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
+               const SplitParams& params);
     void enqueue(cl::Kernel& kernel, size_t items, size_t local, std::vector<cl::Event>& events, const char* what);
 
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;
-    DevicePrimitives m_prims;  // the stable sort by cell key and the scan over key bins
+    DevicePrimitives& m_prims;  // the stable sort by cell key and the scan over key bins
+    LayoutOptions m_options;
     cl::Kernel m_splitBounds, m_splitGridSetup, m_splitKeys, m_splitClearBins, m_splitMarkBins, m_splitBinFlags, m_splitWriteGroups,
         m_splitWriteSummary;
     std::map<int, BatchProgram> m_batchPrograms;
@@ -79,6 +94,8 @@ private:
     DeviceBuffer<int> m_solveOrder, m_batchEnd;
     DeviceBuffer<btoclGroup> m_groups;
     std::vector<cl_uchar> m_overflowHost;  // lives until its upload is done
+    std::vector<int> m_identityHost;       // a one-group layout's order, likewise
+    btoclGroup m_oneGroupHost{};
 
     int m_n = 0;
     std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};

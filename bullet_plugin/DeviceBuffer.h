@@ -43,12 +43,12 @@ public:
     }
 
     // Enqueues the copy without waiting: `data` must stay unchanged until the queue is finished.
-    void enqueueWrite(const OclRuntime& rt, const std::vector<T>& data) {
-        reserve(rt, data.size());
-        if (data.empty()) return;
-        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, data.size() * sizeof(T), data.data()),
-                "writing a device buffer");
+    void enqueueWrite(const OclRuntime& rt, const T* data, size_t n) {
+        reserve(rt, n);
+        if (n == 0) return;
+        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data), "writing a device buffer");
     }
+    void enqueueWrite(const OclRuntime& rt, const std::vector<T>& data) { enqueueWrite(rt, data.data(), data.size()); }
     // Enqueues the copy back without waiting: `data` is valid once the queue is finished.
     void enqueueRead(const OclRuntime& rt, T* data, size_t n) const {
         if (n == 0) return;

@@ -1,5 +1,7 @@
 #include "DeviceSolver.h"
 
+#include "sweep_order.h"
+
 namespace btocl {
 namespace {
 
@@ -7,15 +9,15 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 }  // namespace
 
-DeviceSolver::DeviceSolver(const OclRuntime& runtime, int workGroupSize)
-    // A CPU device runs the lanes of a work-group one after another, and each barrier between
-    // batches is a pass over all of them: there one lane per group walks the batches in order.
-    : m_rt(runtime), m_workGroupSize(runtime.isCpu() ? 1 : workGroupSize), m_primitives(runtime) {
+DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
+    : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
     m_solveProgram = m_rt.buildProgramFile("solve.cl");
-    m_passKernels[BTOCL_PASS_VELOCITY] = m_rt.makeKernel(m_solveProgram, "solveVelocityRows");
-    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
+    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
+    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
+    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
+    m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
     m_setupProgram = m_rt.buildProgramFile("setup.cl");
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
     m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
@@ -84,20 +86,36 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags) {
+void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags, unsigned int seed) {
     cl::Kernel& k = m_passKernels[size_t(pass)];
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
         setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_applied.buffer(),
-                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), flags);
-        m_rt.launch(k, size_t(count) * size_t(m_workGroupSize), size_t(m_workGroupSize), "launching a solve pass");
+                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), flags, cl_uint(seed));
+        m_rt.launch(k, size_t(count) * size_t(m_lanes), size_t(m_lanes), "launching a solve pass");
     }
+}
+
+void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& s) {
+    setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
+            m_placed.buffer(), m_rows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
+            m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.residualThreshold,
+            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed));
+    m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
 void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     if (p.numNormalRows == 0) return;
-    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s.flags);
+    if (layout.wholeStep) {
+        launchWholeStep(layout, s);
+        return;
+    }
+    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s.flags, 0);
+    // The order of each iteration (kernels/sweep_order.h); 0 walks in order.
+    auto seed = [&](int kind, int it) {
+        return (s.flags & BTOCL_FLAG_PERMUTE) ? btoclIterationSeed(s.stepSeed, kind, it) : 0u;
+    };
     const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     auto endIteration = [&](int split) {
         if (!track) return;
@@ -106,11 +124,12 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
     };
     if (s.splitImpulse && anyPenetrationShare())
         for (int it = 0; it < s.numIterations; ++it) {
-            launchPass(layout, BTOCL_PASS_PENETRATION, s.flags);
+            launchPass(layout, BTOCL_PASS_PENETRATION, s.flags, seed(1, it));
             endIteration(1);
         }
     for (int it = 0; it < s.numIterations; ++it) {
-        launchPass(layout, BTOCL_PASS_VELOCITY, s.flags);
+        launchPass(layout, BTOCL_PASS_NORMAL, s.flags, seed(0, it));
+        launchPass(layout, BTOCL_PASS_FRICTION, s.flags, seed(0, it));
         endIteration(0);
     }
 }
@@ -139,9 +158,10 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
         m_lateralDirs.enqueueRead(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
     }
     int iterations = p.numNormalRows > 0 ? s.numIterations : 0;
-    if (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) m_control.enqueueRead(m_rt, m_controlEnd.data(), m_controlEnd.size());
+    const bool counted = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0 && p.numNormalRows > 0;
+    if (counted) m_control.enqueueRead(m_rt, m_controlEnd.data(), m_controlEnd.size());
     m_rt.finish("reading the results back");
-    if (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) iterations = m_controlEnd[BTOCL_CONTROL_ITERATIONS];
+    if (counted) iterations = m_controlEnd[BTOCL_CONTROL_ITERATIONS];
     return iterations;
 }
 

@@ -20,12 +20,14 @@ struct DeviceLayoutView {
     const cl::Buffer* solveOrder = nullptr;
     const cl::Buffer* batchEnd = nullptr;
     std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};
+    bool wholeStep = false;  // one work-group solves every group, the whole step in one launch
 };
 
 class DeviceSolver {
 public:
-    // workGroupSize: lanes per group on a GPU; a CPU device uses one lane per group.
-    DeviceSolver(const OclRuntime& runtime, int workGroupSize);
+    // lanesPerGroup: 1 on the serial path, the work-group size on the wide path. `runtime` and
+    // `primitives` (the scan) must outlive this object.
+    DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup);
 
     // Copies bodies, deltas, constraints and contact points (or host-built rows) to the device.
     void upload(const StepProblem& p);
@@ -45,15 +47,16 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
-    void launchPass(const DeviceLayoutView& layout, int pass, int flags);
+    void launchPass(const DeviceLayoutView& layout, int pass, int flags, unsigned int seed);
+    void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
     bool anyPenetrationShare() const;
 
     const OclRuntime& m_rt;
-    int m_workGroupSize;
-    DevicePrimitives m_primitives;
+    int m_lanes;
+    DevicePrimitives& m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
-    cl::Kernel m_endIteration, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
+    cl::Kernel m_endIteration, m_wholeStep, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints, m_placed;

@@ -10,7 +10,8 @@
 namespace btocl {
 
 // Every constraint exactly once; groups tile the solve order and batches tile each group; no
-// dynamic body in two groups of one set; no dynamic body twice in one batch.
+// dynamic body in two groups of one set; no dynamic body twice in one batch (unless the layout is
+// the serial path's, whose groups are one run each).
 // Returns "" or the first failure.
 std::string validateBatchLayout(const BatchLayout& layout, const std::vector<btoclConstraint>& constraints);
 

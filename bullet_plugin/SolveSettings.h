@@ -1,4 +1,4 @@
-// The parts of btContactSolverInfo that the iterations read.
+// The parts of btContactSolverInfo (and of the solver's config) that the iterations read.
 #pragma once
 
 #include "btocl_shared.h"
@@ -13,8 +13,11 @@ struct SolveSettings {
     float residualThreshold = 0;
     bool splitImpulse = false;
     bool warmStart = false;      // apply the rows' starting impulses before the iterations
+    unsigned int stepSeed = 0;   // with BTOCL_FLAG_PERMUTE, seeds each iteration's order
 
-    static SolveSettings from(const btContactSolverInfo& info) {
+    // permuteOrder: a fresh seeded order every iteration (btOpenCLSolverConfig; Bullet's
+    // SOLVER_RANDMIZE_ORDER asks for it too); stepIndex: the solver's count of steps, its seed.
+    static SolveSettings from(const btContactSolverInfo& info, bool permuteOrder, unsigned int stepIndex = 0) {
         SolveSettings s;
         s.numIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
@@ -23,6 +26,8 @@ struct SolveSettings {
         // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
         if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
         if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
+        if (permuteOrder || (info.m_solverMode & SOLVER_RANDMIZE_ORDER)) s.flags |= BTOCL_FLAG_PERMUTE;
+        s.stepSeed = stepIndex;
         return s;
     }
 };

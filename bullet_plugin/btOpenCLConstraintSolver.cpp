@@ -9,6 +9,8 @@
 #include "StepWriteBack.h"
 
 #include <chrono>
+#include <cstdlib>
+#include <string>
 #include <cmath>
 
 namespace {
@@ -31,11 +33,36 @@ private:
     Clock::time_point m_start = Clock::now(), m_last = m_start;
 };
 
+// A step of at most this many constraints runs whole in one launch of one work-group (no global
+// split): below it, the launches per set and pass cost more than the parallel solve saves.
+constexpr int kWholeStepMaxConstraints = 1024;
+
+// The path asked for, or BT_OPENCL_SOLVE_PATH's, or the device type's.
+btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const btocl::OclRuntime& runtime) {
+    if (asked != btOpenCLSolvePath::Auto) return asked;
+    if (const char* env = std::getenv("BT_OPENCL_SOLVE_PATH"); env && *env) {
+        const std::string value = env;
+        if (value == "serial") return btOpenCLSolvePath::Serial;
+        if (value == "wide") return btOpenCLSolvePath::Wide;
+        if (value != "auto")
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SOLVE_PATH is '" + value +
+                                      "'; it takes auto, serial or wide");
+    }
+    return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
+}
+
 }  // namespace
 
 struct btOpenCLConstraintSolver::Impl {
     explicit Impl(const btOpenCLSolverConfig& c)
-        : config(checked(c)), runtime(c.device), device(runtime, c.workGroupSize), batcher(runtime) {}
+        : config(checked(c)),
+          runtime(c.device),
+          path(resolveSolvePath(c.solvePath, runtime)),
+          // The wide path takes the sort and scan a GPU gets, on any device.
+          primitives(runtime, wide() ? btocl::DevicePrimitives::Backend::BoostCompute
+                                     : btocl::DevicePrimitives::Backend::Chunked),
+          device(runtime, primitives, wide() ? c.workGroupSize : 1),
+          batcher(runtime, primitives) {}
 
     static const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
         if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
@@ -50,6 +77,8 @@ struct btOpenCLConstraintSolver::Impl {
 
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
+    btOpenCLSolvePath path;
+    btocl::DevicePrimitives primitives;
     btocl::DeviceSolver device;
     btocl::DeviceBatcher batcher;
     btocl::StepGatherer gatherer;
@@ -57,6 +86,7 @@ struct btOpenCLConstraintSolver::Impl {
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
     double msGatherCalls = 0;  // time spent gathering inside this step's solveGroup calls
+    unsigned int stepIndex = 0;  // steps run: seeds each step's order (SolveSettings::stepSeed)
 
     // After an error: the bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
@@ -78,6 +108,8 @@ struct btOpenCLConstraintSolver::Impl {
         msGatherCalls += msSince(t0);
     }
 
+    bool wide() const { return path == btOpenCLSolvePath::Wide; }
+
     void run() {
         if (!gathering) return;
         StageTimer timer;
@@ -85,7 +117,7 @@ struct btOpenCLConstraintSolver::Impl {
         try {
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
-            const btocl::SolveSettings settings = btocl::SolveSettings::from(info);
+            const btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.permuteOrder, stepIndex++);
             s.msGather = msGatherCalls + timer.lap();
 
             device.upload(p);
@@ -97,8 +129,12 @@ struct btOpenCLConstraintSolver::Impl {
             params.cellSize = float(config.cellSize);
             params.batchIterations = config.batchIterations;
             params.workGroupSize = config.workGroupSize;
-            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params);
+            btocl::LayoutOptions layout;
+            layout.oneGroup = int(p.constraints.size()) <= kWholeStepMaxConstraints;
+            layout.localBatches = wide();
+            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
             btocl::DeviceLayoutView view;
+            view.wholeStep = layout.oneGroup;
             view.groups = &batcher.groups().buffer();
             view.solveOrder = &batcher.solveOrder().buffer();
             view.batchEnd = &batcher.batchEnd().buffer();
@@ -107,6 +143,8 @@ struct btOpenCLConstraintSolver::Impl {
             s.msSplit = batchStats.msSplit;
             s.msBatch = batchStats.msBatch;
             s.numCellGroups = batchStats.numCellGroups;
+            s.numGroups = batcher.numGroups();
+            s.solvedWholeStep = layout.oneGroup && !p.constraints.empty();
             s.numBatchesMax = batchStats.numBatchesMax;
             s.numBatchesMean = batchStats.numBatchesMean;
             s.numOverflowConstraints = batchStats.numOverflowConstraints;
@@ -197,3 +235,4 @@ btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return 
 const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { return m_impl->stats; }
 std::string btOpenCLConstraintSolver::getDeviceName() const { return m_impl->runtime.deviceName(); }
 const btOpenCLSolverConfig& btOpenCLConstraintSolver::getConfig() const { return m_impl->config; }
+btOpenCLSolvePath btOpenCLConstraintSolver::getSolvePath() const { return m_impl->path; }

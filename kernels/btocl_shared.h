@@ -24,16 +24,18 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 // Kinds of rows. A constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
 enum { BTOCL_ROWS_JOINT, BTOCL_ROWS_NORMAL, BTOCL_ROWS_FRICTION, BTOCL_ROWS_ROLLING, BTOCL_NUM_ROW_KINDS };
 
-// The passes of a step, each a launch per set over all constraints:
-// warm start: the normal rows' starting impulses applied to the bodies (rows set up on the device);
-// penetration: the normal rows again, on push and turn velocities (split impulse);
-// velocity: per constraint its normal rows, then its friction rows, then its rolling rows (SI
-// visits all normal rows, then all friction rows: an order change, see README).
-enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_VELOCITY, BTOCL_NUM_PASSES };
+// The passes of a step, each over all constraints, set after set:
+// warm start: the normal rows' starting impulses applied to the bodies;
+// penetration: the normal rows on push and turn velocities (split impulse), once per iteration;
+// normal and friction: the two halves of a velocity iteration, in SI's order of kinds: every
+// constraint's joint and normal rows, then every constraint's friction and rolling rows (a
+// constraint's friction right after its own normal rows lets resting stacks creep; README).
+enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_NUM_PASSES };
 
 // Flags of the solve kernels (SolveSettings::flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
+#define BTOCL_FLAG_PERMUTE 4         // each iteration walks each group in a fresh seeded order (sweep_order.h)
 
 // Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/BulletGather.cpp).
 #define BTOCL_SOLVER_USE_WARMSTARTING 4

@@ -116,30 +116,29 @@ BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, B
     btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);
     btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push);
     float maxResidual2 = 0.0f;
-    const int first = c->firstRow[BTOCL_ROWS_NORMAL];
-    const int end = first + c->numRows[BTOCL_ROWS_NORMAL];
-    for (int r = first; r < end; ++r) {
-        BTOCL_GLOBAL const btoclRow* row = rows + r;
-        float residual = 0.0f;
-        if (pass == BTOCL_PASS_WARMSTART) {
-            // SI applies each normal row's starting impulse to both bodies as it sets the row up.
-            const float start = applied[r];
-            btoclApplyImpulse(&A, row->contactNormal1 * A.invMass, row->angularComponentA, start, 1);
-            btoclApplyImpulse(&B, row->contactNormal2 * B.invMass, row->angularComponentB, start, 1);
-            continue;
-        } else if (pass == BTOCL_PASS_PENETRATION) {
-            if (BTOCL_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
-            residual = btoclSolveRow(row, pushApplied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 1);
-        } else {
-            residual = btoclSolveRow(row, applied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 0);
-        }
-        maxResidual2 = fmax(maxResidual2, residual * residual);
-    }
-    if (pass == BTOCL_PASS_VELOCITY) {
-        // Friction right after the constraint's normal rows: one sweep per iteration, the two
-        // bodies read and written once (measured: the solve 2.4x faster than three passes).
-        maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors));
+    if (pass == BTOCL_PASS_FRICTION) {
+        maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors);
         maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, applied, &A, &B, applyFactors));
+    } else {
+        const int first = c->firstRow[BTOCL_ROWS_NORMAL];
+        const int end = first + c->numRows[BTOCL_ROWS_NORMAL];
+        for (int r = first; r < end; ++r) {
+            BTOCL_GLOBAL const btoclRow* row = rows + r;
+            float residual = 0.0f;
+            if (pass == BTOCL_PASS_WARMSTART) {
+                // SI applies each normal row's starting impulse to both bodies as it sets the row up.
+                const float start = applied[r];
+                btoclApplyImpulse(&A, row->contactNormal1 * A.invMass, row->angularComponentA, start, 1);
+                btoclApplyImpulse(&B, row->contactNormal2 * B.invMass, row->angularComponentB, start, 1);
+                continue;
+            } else if (pass == BTOCL_PASS_PENETRATION) {
+                if (BTOCL_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
+                residual = btoclSolveRow(row, pushApplied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 1);
+            } else {
+                residual = btoclSolveRow(row, applied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 0);
+            }
+            maxResidual2 = fmax(maxResidual2, residual * residual);
+        }
     }
     btoclStoreSolveBody(&A, deltas + c->bodyA, push);
     btoclStoreSolveBody(&B, deltas + c->bodyB, push);

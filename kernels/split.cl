@@ -75,16 +75,20 @@ __kernel void splitBinFlags(__global const int* binStart, __global const int* bi
 }
 
 // groupOfBin: the exclusive scan of the flags, i.e. the group index of each non-empty bin.
+// serialRuns: the serial path builds no local batches; each group is then one run, walked in order
+// by one work-item (numBatches 1, its batch ending at the group's end).
 __kernel void splitWriteGroups(__global const int* binStart, __global const int* binEnd, __global const int* groupOfBin,
-                               __global const btoclSplitGrid* gridIn, __global btoclGroup* groups) {
+                               __global const btoclSplitGrid* gridIn, __global btoclGroup* groups, int serialRuns,
+                               __global int* batchEnd) {
     const int b = get_global_id(0);
     if (binEnd[b] <= binStart[b]) return;
     btoclGroup g;
     g.offset = binStart[b];
     g.count = binEnd[b] - binStart[b];
-    g.numBatches = 0;
+    g.numBatches = serialRuns ? 1 : 0;
     g.cell = btoclSplitCellOfKey(*gridIn, b);
     groups[groupOfBin[b]] = g;
+    if (serialRuns) batchEnd[g.offset] = g.offset + g.count;
 }
 
 // One work-item. summary: [0..5] setGroupStart, [6] overflow constraints, [7] the cell edge's bits.

@@ -4,6 +4,7 @@
 
 #include "BulletGather.h"
 #include "DeviceSolver.h"
+#include "TestDevice.h"
 #include "TestWorld.h"
 
 #include <algorithm>
@@ -25,14 +26,17 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
     return p;
 }
 
-// Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order.
+// Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order,
+// with the lanes of the path under test; wholeStep: in one launch rather than per set and pass.
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                         std::vector<btoclRow>* rows = nullptr) {
+                         std::vector<btoclRow>* rows = nullptr, bool wholeStep = false) {
     OclRuntime rt("");
-    DeviceSolver solver(rt, 64);
+    DevicePrimitives primitives(rt, testBackend());
+    DeviceSolver solver(rt, primitives, testLanesPerGroup());
     solver.upload(p);
-    const DeviceLayoutView view = solver.uploadLayout(layout);
+    DeviceLayoutView view = solver.uploadLayout(layout);
+    view.wholeStep = wholeStep;
     solver.arrange(p, view);
     solver.iterate(p, view, settings);
     const int iterations = solver.download(p, settings);

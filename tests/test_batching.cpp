@@ -4,6 +4,7 @@
 #include "HostBatching.h"
 #include "LayoutValidator.h"
 #include "DeviceBatcher.h"
+#include "TestDevice.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <catch2/catch.hpp>
@@ -16,13 +17,15 @@
 
 using namespace btocl;
 using namespace btocl_test;
+using btocl::test::testBackend;
 
 namespace {
 
 // One runtime and batcher for the whole file: program builds take seconds.
 struct Fixture {
     OclRuntime rt{""};
-    DeviceBatcher batcher{rt};
+    DevicePrimitives primitives{rt, testBackend()};
+    DeviceBatcher batcher{rt, primitives};
     DeviceBuffer<btoclConstraint> constraints;
 };
 Fixture& fixture() {
@@ -186,7 +189,7 @@ TEST_CASE("two builds of a 1000-body pile give bitwise equal layouts", "[batchin
     (void)b;
     const BatchLayout c = runDevice(scene);
     // A second batcher: fresh buffers and kernels.
-    DeviceBatcher other(fixture().rt);
+    DeviceBatcher other(fixture().rt, fixture().primitives);
     DeviceBuffer<btoclConstraint> buffer;
     buffer.write(fixture().rt, scene.constraints);
     other.build(buffer, int(scene.constraints.size()), scene.bodies, SplitParams{});

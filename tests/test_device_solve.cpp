@@ -33,16 +33,19 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     groundAndPile(w, 64);
     btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
+    const bool permute = GENERATE(false, true);
+    const bool wholeStep = GENERATE(false, true);  // one launch, or one per set and pass
+    CAPTURE(mode, permute, wholeStep);
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     StepProblem host = gatherPileProblem(w, info);
     REQUIRE(host.numContactPoints() > 100);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info);
+    const SolveSettings settings = SolveSettings::from(info, permute, 7);
 
     solveOnHost(host, layout, settings);
-    solveOnDevice(dev, layout, settings);
+    solveOnDevice(dev, layout, settings, nullptr, wholeStep);
 
     // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
     // changes the last bits of each row update: 1e-4 relative over 10 iterations bounds that.
@@ -67,10 +70,12 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     StepProblem host = gatherPileProblem(w, info);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info);
+    const SolveSettings settings = SolveSettings::from(info, true);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
+    const bool wholeStep = GENERATE(false, true);
+    CAPTURE(wholeStep);
     const int hostIterations = solveOnHost(host, layout, settings);
-    const int deviceIterations = solveOnDevice(dev, layout, settings);
+    const int deviceIterations = solveOnDevice(dev, layout, settings, nullptr, wholeStep);
     INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
     // The threshold is reached before the cap, and at the same iteration: the device computes
     // SI's residual (impulse change over the row's effective mass) as the host does; a rounding

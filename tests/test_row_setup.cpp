@@ -121,7 +121,7 @@ void requireRowsAsSI(World& w, const btContactSolverInfo& info, bool deviceToo =
     StepProblem dev = gatherProblem(w, info, RowSetup::Device);
     REQUIRE_FALSE(host.rowsOnDevice);
     REQUIRE(dev.rowsOnDevice == deviceToo);
-    SolveSettings settings = SolveSettings::from(info);
+    SolveSettings settings = SolveSettings::from(info, false);
     settings.numIterations = 0;  // the warm start only
     solveOnHost(host, buildSerialLayout(int(host.constraints.size())), settings);
     solveOnDevice(dev, buildSerialLayout(int(dev.constraints.size())), settings, &dev.rows);

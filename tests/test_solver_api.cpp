@@ -155,11 +155,30 @@ TEST_CASE("getLastStats counts the bodies and contact points of a known scene", 
     REQUIRE(s.numJointRows == 0);
     // Each point has a normal row and (friction > 0) at least one friction row.
     REQUIRE(s.numConstraintRows >= 2 * s.numContactPoints);
-    REQUIRE(s.numCellGroups >= 1);
-    // Some group has a batch (the 4 points of a box may fall into different cells, so no more).
+    // Three manifolds: a step this small is solved whole, as one group.
+    REQUIRE(s.solvedWholeStep);
+    REQUIRE(s.numGroups == 1);
+    REQUIRE(s.numCellGroups == 0);
     REQUIRE(s.numBatchesMax >= 1);
     REQUIRE(s.validationFailures == 0);
     REQUIRE(s.msTotal > 0);
+}
+
+TEST_CASE("a step of many constraints is split into cell groups", "[api]") {
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    // Two layers of 30 x 30 boxes: 1,800 manifolds, over the whole-step limit of 1,024.
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 30; ++x)
+            for (int z = 0; z < 30; ++z)
+                w.addUnitBox(btVector3(btScalar(x) * 1.05f, btScalar(0.5) + btScalar(y), btScalar(z) * 1.05f));
+    for (int i = 0; i < 3; ++i) w.step();
+    const btOpenCLSolverStats& s = w.openCL()->getLastStats();
+    CAPTURE(s.numContactPoints, s.numGroups, s.numCellGroups, s.numBatchesMax, s.numOverflowConstraints);
+    REQUIRE_FALSE(s.solvedWholeStep);
+    REQUIRE(s.numCellGroups > 4);  // a pile wider than a cell spreads over cells of every set
+    REQUIRE(s.numGroups >= s.numCellGroups);
+    REQUIRE(s.numBatchesMax >= 1);
 }
 
 TEST_CASE("getDeviceName names the device", "[api]") {

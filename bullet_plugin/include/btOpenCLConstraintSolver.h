@@ -21,12 +21,27 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// How the device walks the constraints of a cell group.
+enum class btOpenCLSolvePath {
+    Auto,    // env BT_OPENCL_SOLVE_PATH ("auto", "serial" or "wide"), else serial on a CPU device,
+             // wide on any other
+    Serial,  // one work-item per group walks its constraints in order; no local batches are built
+             // (a CPU runs a work-group's lanes one after another anyway)
+    Wide,    // workGroupSize lanes per group, batch by batch, with the sort and scan a GPU gets
+};
+
 struct btOpenCLSolverConfig {
     std::string device;       // "" = env BT_OPENCL_DEVICE, else first GPU, else first CPU device
     btScalar cellSize = 0;    // global-split cell edge in world units; 0 = automatic
     int batchIterations = 4;  // locking rounds per streamed chunk (the paper's 4)
-    int workGroupSize = 64;   // lanes per work-group
+    int workGroupSize = 64;   // lanes per work-group (wide path)
     bool validate = false;    // check the split and batch invariants every step (tests use it)
+    btOpenCLSolvePath solvePath = btOpenCLSolvePath::Auto;
+    // Each iteration walks the constraints of a group in a fresh pseudo-random order, the same
+    // from run to run (seeded by the step and the iteration): resting stacks drift and jitter less
+    // than with Bullet's one fixed order, as with Bullet's SOLVER_RANDMIZE_ORDER (which turns it on
+    // too). Off: every iteration walks in one fixed order, as Bullet's solver does by default.
+    bool permuteOrder = true;
 };
 
 // What the last step did. Phase times are host wall-clock milliseconds of each stage, waits for
@@ -46,6 +61,10 @@ struct btOpenCLSolverStats {
     double msWriteback = 0;  // writing them to Bullet's bodies and manifold points
     double msTotal = 0;      // from the first solveGroup to the end of allSolved, gathering included
     int numIterationsRun = 0;
+    // A small step is solved whole by one work-group in one launch, without the global split:
+    // then it has one group (numCellGroups 0). Otherwise the cell groups plus the overflow group.
+    bool solvedWholeStep = false;
+    int numGroups = 0;
     std::string lastValidationMessage;  // first invariant failure of the last step, if any
 };
 
@@ -70,6 +89,7 @@ public:
     const btOpenCLSolverStats& getLastStats() const;
     std::string getDeviceName() const;
     const btOpenCLSolverConfig& getConfig() const;
+    btOpenCLSolvePath getSolvePath() const;  // the path in use (never Auto)
 
     struct Impl;
 

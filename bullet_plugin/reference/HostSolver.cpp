@@ -1,27 +1,33 @@
 #include "HostSolver.h"
 
 #include "row_solve.h"
+#include "sweep_order.h"
 
 #include <algorithm>
 
 namespace btocl {
 namespace {
 
-// One pass over every set, group and batch in layout order; returns the largest squared residual.
+// One pass over every set, group and batch in layout order (with a seed, each group's batches
+// and each batch's constraints in that seed's order, as kernels/solve.cl walks them); returns the
+// largest squared residual.
 float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& applied,
-                std::vector<float>& pushApplied, int pass, int applyFactors) {
+                std::vector<float>& pushApplied, int pass, int applyFactors, unsigned int seed) {
     float maxResidual2 = 0;
     for (const btoclGroup& g : layout.groups) {
-        int start = g.offset;
-        for (int k = 0; k < g.numBatches; ++k) {
+        const btoclPermutation batches = btoclMakePermutation(g.numBatches, seed ^ btoclHash(unsigned(g.offset)));
+        for (int kk = 0; kk < g.numBatches; ++kk) {
+            const int k = seed ? btoclPermute(batches, kk) : kk;
+            const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
-            for (int i = start; i < end; ++i) {
+            const btoclPermutation within = btoclMakePermutation(end - begin, seed ^ btoclHash(unsigned(begin)));
+            for (int j = begin; j < end; ++j) {
+                const int i = seed ? begin + btoclPermute(within, j - begin) : j;
                 const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
                 maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&c, p.rows.data(), applied.data(),
                                                                            pushApplied.data(), p.bodies.data(),
                                                                            p.deltas.data(), pass, applyFactors));
             }
-            start = end;
         }
     }
     return maxResidual2;
@@ -37,16 +43,23 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
     }
     const int applyFactors = settings.flags & BTOCL_FLAG_APPLY_FACTORS;
     const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    const bool permute = (settings.flags & BTOCL_FLAG_PERMUTE) != 0;
+    // The order seed of an iteration: split-impulse iterations are kind 1, velocity ones kind 0.
+    auto pass = [&](int which, int iteration) {
+        const int kind = which == BTOCL_PASS_PENETRATION ? 1 : 0;
+        const unsigned int seed =
+            permute && which != BTOCL_PASS_WARMSTART ? btoclIterationSeed(settings.stepSeed, kind, iteration) : 0u;
+        return solvePass(p, layout, applied, pushApplied, which, applyFactors, seed);
+    };
     int iterations = 0;
     if (p.numNormalRows > 0) {
-        if (settings.warmStart) solvePass(p, layout, applied, pushApplied, BTOCL_PASS_WARMSTART, applyFactors);
+        if (settings.warmStart) pass(BTOCL_PASS_WARMSTART, 0);
         if (settings.splitImpulse)
             for (int it = 0; it < settings.numIterations; ++it)
-                if (solvePass(p, layout, applied, pushApplied, BTOCL_PASS_PENETRATION, applyFactors) <=
-                        settings.residualThreshold && track)
-                    break;
+                if (pass(BTOCL_PASS_PENETRATION, it) <= settings.residualThreshold && track) break;
         for (int it = 0; it < settings.numIterations; ++it) {
-            const float residual = solvePass(p, layout, applied, pushApplied, BTOCL_PASS_VELOCITY, applyFactors);
+            const float normal = pass(BTOCL_PASS_NORMAL, it);  // before the friction: SI's order of kinds
+            const float residual = std::max(normal, pass(BTOCL_PASS_FRICTION, it));
             ++iterations;
             if (track && residual <= settings.residualThreshold) break;
         }

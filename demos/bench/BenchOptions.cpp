@@ -48,6 +48,16 @@ void addBenchOptions(CLI::App& app, BenchOptions& o, std::string& solver) {
         ->type_name("WHICH")
         ->check(CLI::IsMember({"both", "si", "ocl"}))
         ->capture_default_str();
+    app.add_option("--solve-path", o.solvePath,
+                   "our solver's path: auto (BT_OPENCL_SOLVE_PATH, else by device type), serial or wide")
+        ->type_name("PATH")
+        ->check(CLI::IsMember({"auto", "serial", "wide"}))
+        ->capture_default_str();
+    app.add_option("--order", o.order,
+                   "our solver's order: permuted (a fresh seeded order every iteration) or fixed (as Bullet's)")
+        ->type_name("ORDER")
+        ->check(CLI::IsMember({"permuted", "fixed"}))
+        ->capture_default_str();
     app.add_flag("--stand-in", o.standIn, "use a second btSequentialImpulseConstraintSolver in place of ours");
     app.add_flag("--validate", o.validate, "check split and batch invariants every step (exit 4 if broken)");
     app.add_flag("--allow-ocl-error", o.allowOclError,

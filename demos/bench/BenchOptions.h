@@ -13,6 +13,8 @@ struct BenchOptions {
     int iterations = 10;  // btContactSolverInfo::m_numIterations for both solvers
     double dt = 1.0 / 60.0;
     bool runSi = true, runOurs = true;
+    std::string solvePath = "auto";    // btOpenCLSolverConfig::solvePath
+    std::string order = "permuted";    // btOpenCLSolverConfig::permuteOrder
     bool standIn = false;        // put a second Bullet SI solver where ours goes (checks the harness)
     bool validate = false;       // btOpenCLSolverConfig::validate
     bool allowOclError = false;  // exit 0 even when our solver reports an error

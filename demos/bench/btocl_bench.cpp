@@ -65,6 +65,10 @@ int run(const BenchOptions& options) {
 
     btOpenCLSolverConfig config;
     config.validate = options.validate;
+    config.solvePath = options.solvePath == "serial" ? btOpenCLSolvePath::Serial
+                       : options.solvePath == "wide" ? btOpenCLSolvePath::Wide
+                                                     : btOpenCLSolvePath::Auto;
+    config.permuteOrder = options.order == "permuted";
     std::unique_ptr<SolverSide> si, ours;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)
