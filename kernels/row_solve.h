@@ -17,6 +17,11 @@
 #define BTOCL_FLT_MAX FLT_MAX
 #endif
 
+// Joint rows: the velocity iterations they take part in, SI's m_overrideNumSolverIterations (the
+// joint's override, else m_numIterations). Named here, beside the solve that reads it, until the
+// row record settles (btocl_shared.h).
+#define BTOCL_ROW_ITERATIONS(r) ((r).flags)
+
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once.
 typedef struct {
