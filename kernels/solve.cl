@@ -20,6 +20,9 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase,
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     const int applyFactors = flags & BTOCL_FLAG_APPLY_FACTORS;
+    // No joint rows reach the device yet and every launch is one of the step's m_numIterations,
+    // so each runs as iteration 0 of 1; with joints the launch will pass its iteration.
+    const int iteration = 0, numIterations = 1;
     float maxResidual2 = 0.0f;
     int start = g.offset;
     for (int k = 0; k < g.numBatches; ++k) {
@@ -27,7 +30,7 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase,
         for (int i = start + lane; i < end; i += lanes)
             maxResidual2 = fmax(maxResidual2,
                                 btoclSolveConstraint(constraints + i, rows, applied, pushApplied, bodies, deltas, pass,
-                                                     applyFactors));
+                                                     applyFactors, iteration, numIterations));
         barrier(CLK_GLOBAL_MEM_FENCE);  // the next batch reads what this one wrote
         start = end;
     }
