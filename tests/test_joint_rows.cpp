@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 
 using namespace btocl;
@@ -97,10 +98,15 @@ TEST_CASE("joint rows of every joint type are set up as SI sets them up", "[join
     CAPTURE(mode);
     World w(SolverKind::Reference);
     const std::vector<std::string> names = testworld::addJointZoo(w);
-    if (mode == 1) {  // the world's ERP, CFM and damping
+    if (mode == 1) {  // the world's ERP, CFM and damping; static bodies that report a velocity
         w.info().m_erp = btScalar(0.4);
         w.info().m_globalCfm = btScalar(0.002);
         w.info().m_damping = btScalar(0.7);
+        for (btRigidBody* b : w.bodies())
+            if (b->isStaticObject() && !b->isKinematicObject()) {
+                b->setLinearVelocity(btVector3(btScalar(0.3), 0, btScalar(-0.2)));  // SI's joint rows read it
+                b->setAngularVelocity(btVector3(0, btScalar(0.5), 0));
+            }
     }
     if (mode == 2) w.info().m_numIterations = 4;  // fewer than the two overrides (20 and 5)
     for (int i = 0; i < 12; ++i) w.step();
@@ -203,6 +209,15 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
     }
     CHECK(set.constraints[4].position.x == Approx(11.5f));
     (void)chain;
+}
+
+TEST_CASE("a joint whose rows are not finite is refused before anything is written", "[joints][setup]") {
+    World w(SolverKind::Reference);
+    btRigidBody* b = w.addSphere(btScalar(0.2), 1, testworld::at(btVector3(0, 5, 0)));
+    const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
+    w.addConstraint(std::make_unique<btPoint2PointConstraint>(*b, btVector3(nan, 0, 0)));
+    std::vector<btTypedConstraint*> joints = w.constraints();
+    CHECK_THROWS_AS(gatherJoints(w, joints, w.stepInfo()), btOpenCLSolverError);
 }
 
 namespace {
