@@ -33,9 +33,12 @@ public:
     void releaseBodies();
 
     const btContactSolverInfo& info() const { return m_info; }
+    // The solver body of an object (SI's getOrInitSolverBody): a dynamic or kinematic rigid body
+    // gets its own, added on first use; any other object is the fixed body, 0. Joints' bodies
+    // are looked up here.
+    int solverBodyOf(btCollisionObject* object);
 
 private:
-    int solverBodyOf(btCollisionObject* object);
     int addSolverBody(btRigidBody* rb);
     void packManifold(btPersistentManifold* manifold);
 

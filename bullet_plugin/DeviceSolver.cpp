@@ -86,13 +86,15 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, int flags, unsigned int seed) {
+void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& s, unsigned int seed,
+                              int iteration) {
     cl::Kernel& k = m_passKernels[size_t(pass)];
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
         setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_applied.buffer(),
-                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), flags, cl_uint(seed));
+                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, cl_uint(seed),
+                iteration, s.numIterations);
         m_rt.launch(k, size_t(count) * size_t(m_lanes), size_t(m_lanes), "launching a solve pass");
     }
 }
@@ -101,7 +103,7 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
             m_placed.buffer(), m_rows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.residualThreshold,
-            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed));
+            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed), s.numIterations);
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
@@ -111,7 +113,7 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         launchWholeStep(layout, s);
         return;
     }
-    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s.flags, 0);
+    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s, 0, 0);
     // The order of each iteration (kernels/sweep_order.h); 0 walks in order.
     auto seed = [&](int kind, int it) {
         return (s.flags & BTOCL_FLAG_PERMUTE) ? btoclIterationSeed(s.stepSeed, kind, it) : 0u;
@@ -124,12 +126,12 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
     };
     if (s.splitImpulse && anyPenetrationShare())
         for (int it = 0; it < s.numIterations; ++it) {
-            launchPass(layout, BTOCL_PASS_PENETRATION, s.flags, seed(1, it));
+            launchPass(layout, BTOCL_PASS_PENETRATION, s, seed(1, it), it);
             endIteration(1);
         }
     for (int it = 0; it < s.numIterations; ++it) {
-        launchPass(layout, BTOCL_PASS_NORMAL, s.flags, seed(0, it));
-        launchPass(layout, BTOCL_PASS_FRICTION, s.flags, seed(0, it));
+        launchPass(layout, BTOCL_PASS_NORMAL, s, seed(0, it), it);
+        launchPass(layout, BTOCL_PASS_FRICTION, s, seed(0, it), it);
         endIteration(0);
     }
 }

@@ -47,7 +47,8 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
-    void launchPass(const DeviceLayoutView& layout, int pass, int flags, unsigned int seed);
+    void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, unsigned int seed,
+                    int iteration);
     void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
     bool anyPenetrationShare() const;
 

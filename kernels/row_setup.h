@@ -1,8 +1,10 @@
 // Contact rows from a contact point, with btSequentialImpulseConstraintSolver's formulas
 // (setupContactConstraint, setupFrictionConstraint, setupTorsionalFrictionConstraint), written
 // once for the device (kernels/setup.cl) and the host (bullet_plugin/HostRowSetup.cpp: the path
-// for anisotropic friction). Functions of values: the caller reads the records and stores the rows.
-// The tests hold the result to SI's own rows (tests/test_row_setup.cpp).
+// for anisotropic friction); and joint rows finished from what a joint's getInfo2 wrote (SI's
+// convertJoint; bullet_plugin/JointRows.cpp). Functions of values: the caller reads the records
+// and stores the rows. The tests hold the result to SI's own rows (tests/test_row_setup.cpp,
+// tests/test_joint_rows.cpp).
 #ifndef BTOCL_ROW_SETUP_H
 #define BTOCL_ROW_SETUP_H
 
@@ -47,6 +49,16 @@ BTOCL_INLINE btoclFloat4 btoclInvInertiaTimes(const btoclBody* b, btoclFloat4 ax
 // ... then times the angular factor (SI: I * axis * getAngularFactor()).
 BTOCL_INLINE btoclFloat4 btoclAngularComponent(const btoclBody* b, btoclFloat4 axis) {
     return btoclInvInertiaTimes(b, axis) * btoclXyz(b->angularFactor);
+}
+// The inverse inertia about an axis, axis . I axis: a body's angular share of a row's effective
+// mass (SI, contact torsion and joint rows alike: iMJaA.dot(relpos1CrossNormal)).
+BTOCL_INLINE float btoclInvInertiaAlong(const btoclBody* b, btoclFloat4 axis) {
+    return btoclDot3(btoclInvInertiaTimes(b, axis), axis);
+}
+// A body's velocity along its part of a row's Jacobian (SI's vel1Dotn, vel2Dotn).
+BTOCL_INLINE float btoclJacobianVelocity(btoclFloat4 linearAxis, btoclFloat4 angularAxis, btoclFloat4 linear,
+                                         btoclFloat4 angular) {
+    return btoclDot3(linearAxis, linear) + btoclDot3(angularAxis, angular);
 }
 
 // A row's Jacobian and bodies; the scalars are left for the caller.
@@ -106,10 +118,12 @@ BTOCL_INLINE btoclRow btoclNormalRow(const btoclContactPoint* pt, const btoclBod
         if (btoclFabs(rv) >= prm->restitutionVelocityThreshold) restitution = BTOCL_POINT_RESTITUTION(*pt) * -rv;
         if (restitution <= 0.0f) restitution = 0.0f;
     }
-    const float vel1Dotn = btoclDot3(r.contactNormal1, A->linearVelocity + (f->hasA ? A->externalForceImpulse : zero)) +
-                           btoclDot3(r.relpos1CrossNormal, A->angularVelocity + (f->hasA ? A->externalTorqueImpulse : zero));
-    const float vel2Dotn = btoclDot3(r.contactNormal2, B->linearVelocity + (f->hasB ? B->externalForceImpulse : zero)) +
-                           btoclDot3(r.relpos2CrossNormal, B->angularVelocity + (f->hasB ? B->externalTorqueImpulse : zero));
+    const float vel1Dotn = btoclJacobianVelocity(r.contactNormal1, r.relpos1CrossNormal,
+                                                 A->linearVelocity + (f->hasA ? A->externalForceImpulse : zero),
+                                                 A->angularVelocity + (f->hasA ? A->externalTorqueImpulse : zero));
+    const float vel2Dotn = btoclJacobianVelocity(r.contactNormal2, r.relpos2CrossNormal,
+                                                 B->linearVelocity + (f->hasB ? B->externalForceImpulse : zero),
+                                                 B->angularVelocity + (f->hasB ? B->externalTorqueImpulse : zero));
     float velocityError = restitution - (vel1Dotn + vel2Dotn);
     float positionalError = 0.0f;
     if (penetration > 0.0f)
@@ -153,10 +167,10 @@ BTOCL_INLINE btoclRow btoclFrictionRow(btoclFloat4 axis, const btoclContactPoint
     const float jac = prm->sor / (denom0 + denom1);
     btoclRow r = btoclRowOfJacobian(n1, rp1, n2, rp2, angA, angB, pt->bodyA, pt->bodyB, normalRow);
 
-    const float vel1Dotn = btoclDot3(n1, f->hasA ? A->linearVelocity + A->externalForceImpulse : zero) +
-                           btoclDot3(rp1, f->hasA ? A->angularVelocity : zero);
-    const float vel2Dotn = btoclDot3(n2, f->hasB ? B->linearVelocity + B->externalForceImpulse : zero) +
-                           btoclDot3(rp2, f->hasB ? B->angularVelocity : zero);
+    const float vel1Dotn = btoclJacobianVelocity(n1, rp1, f->hasA ? A->linearVelocity + A->externalForceImpulse : zero,
+                                                 f->hasA ? A->angularVelocity : zero);
+    const float vel2Dotn = btoclJacobianVelocity(n2, rp2, f->hasB ? B->linearVelocity + B->externalForceImpulse : zero,
+                                                 f->hasB ? B->angularVelocity : zero);
     const float velocityImpulse = (desiredVelocity - (vel1Dotn + vel2Dotn)) * jac;
     float penetrationImpulse = 0.0f;
     if (pt->flags & BTOCL_CONTACT_FLAG_FRICTION_ANCHOR) {
@@ -184,9 +198,8 @@ BTOCL_INLINE btoclRow btoclTorsionalRow(btoclFloat4 axis, float friction, const 
     const btoclFloat4 rp2 = btoclXyz(axis);
     const btoclFloat4 angA = f->hasA ? btoclAngularComponent(A, rp1) : zero;
     const btoclFloat4 angB = f->hasB ? btoclAngularComponent(B, rp2) : zero;
-    const btoclFloat4 iA = f->hasA ? btoclInvInertiaTimes(A, rp1) : zero;
-    const btoclFloat4 iB = f->hasB ? btoclInvInertiaTimes(B, rp2) : zero;
-    const float jac = 1.0f / (btoclDot3(iA, rp1) + btoclDot3(iB, rp2));
+    const float jac =
+        1.0f / ((f->hasA ? btoclInvInertiaAlong(A, rp1) : 0.0f) + (f->hasB ? btoclInvInertiaAlong(B, rp2) : 0.0f));
     const float relVel = btoclDot3(rp1, f->hasA ? A->angularVelocity : zero) + btoclDot3(rp2, f->hasB ? B->angularVelocity : zero);
     btoclRow r = btoclRowOfJacobian(zero, rp1, zero, rp2, angA, angB, pt->bodyA, pt->bodyB, normalRow);
     BTOCL_ROW_RHS(r) = -relVel * jac;
@@ -197,6 +210,51 @@ BTOCL_INLINE btoclRow btoclTorsionalRow(btoclFloat4 axis, float friction, const 
     BTOCL_ROW_UPPER(r) = friction;
     BTOCL_ROW_FRICTION(r) = friction;
     return r;
+}
+
+// A joint row, finished as SI's convertJoint finishes what the joint's getInfo2 wrote. `r` comes
+// with the Jacobian (contactNormal1/2, relpos1/2CrossNormal), the constraint error in the rhs lane
+// (getInfo2 already scaled it by ERP and 1/dt), the cfm and the limits. A and B as SI reads them
+// for a joint: each rigid body's own inverse mass, inertia, angular factor and velocity, with this
+// step's external impulses only for a body of the solver (BTOCL_BODY_IS_RIGID; a static one has
+// none). `damping`: the m_damping that getInfo2 left (a point-to-point joint sets its own).
+BTOCL_INLINE btoclRow btoclJointRow(btoclRow r, const btoclBody* A, const btoclBody* B, float damping,
+                                    float breakingImpulseThreshold) {
+    const btoclFloat4 zero = btoclZero4();
+    // No row may carry more than the breaking impulse; a row that reaches it breaks the joint.
+    float lower = BTOCL_ROW_LOWER(r), upper = BTOCL_ROW_UPPER(r);
+    if (upper >= breakingImpulseThreshold) upper = breakingImpulseThreshold;
+    if (lower <= -breakingImpulseThreshold) lower = -breakingImpulseThreshold;
+    const float error = BTOCL_ROW_RHS(r);
+    const float cfm = BTOCL_ROW_CFM(r);  // a joint's cfm is used as it is, not scaled as a contact's
+
+    // The effective mass as SI takes it for joints: scalar inverse masses, inertia without the
+    // angular factors, no SOR; a row that moves nothing (sum 0) gets no impulse.
+    const float sum = btoclDot3(r.contactNormal1 * BTOCL_BODY_INV_MASS(*A), r.contactNormal1) +
+                      btoclInvInertiaAlong(A, r.relpos1CrossNormal) +
+                      btoclDot3(r.contactNormal2 * BTOCL_BODY_INV_MASS(*B), r.contactNormal2) +
+                      btoclInvInertiaAlong(B, r.relpos2CrossNormal);
+    const float jac = btoclFabs(sum) > FLT_EPSILON ? 1.0f / sum : 0.0f;
+
+    const int extA = BTOCL_BODY_IS_RIGID(*A) != 0.0f, extB = BTOCL_BODY_IS_RIGID(*B) != 0.0f;
+    const float relVel = btoclJacobianVelocity(r.contactNormal1, r.relpos1CrossNormal,
+                                               A->linearVelocity + (extA ? A->externalForceImpulse : zero),
+                                               A->angularVelocity + (extA ? A->externalTorqueImpulse : zero)) +
+                         btoclJacobianVelocity(r.contactNormal2, r.relpos2CrossNormal,
+                                               B->linearVelocity + (extB ? B->externalForceImpulse : zero),
+                                               B->angularVelocity + (extB ? B->externalTorqueImpulse : zero));
+    const float velocityError = 0.0f - relVel * damping;  // no restitution
+
+    btoclRow out = btoclRowOfJacobian(r.contactNormal1, r.relpos1CrossNormal, r.contactNormal2, r.relpos2CrossNormal,
+                                      btoclAngularComponent(A, r.relpos1CrossNormal),
+                                      btoclAngularComponent(B, r.relpos2CrossNormal), r.bodyA, r.bodyB, -1);
+    BTOCL_ROW_RHS(out) = error * jac + velocityError * jac;
+    BTOCL_ROW_RHS_PENETRATION(out) = 0.0f;
+    BTOCL_ROW_CFM(out) = cfm;
+    BTOCL_ROW_JAC_DIAG_INV(out) = jac;
+    BTOCL_ROW_LOWER(out) = lower;
+    BTOCL_ROW_UPPER(out) = upper;
+    return out;  // starting impulse 0 (SI does not warm-start joints); the caller sets BTOCL_ROW_ITERATIONS
 }
 
 // The friction directions of a point and what their rows take: from the sliding velocity, the

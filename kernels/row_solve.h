@@ -17,6 +17,11 @@
 #define BTOCL_FLT_MAX FLT_MAX
 #endif
 
+// Joint rows: the velocity iterations they take part in, SI's m_overrideNumSolverIterations (the
+// joint's override, else m_numIterations). Named here, beside the solve that reads it, until the
+// row record settles (btocl_shared.h).
+#define BTOCL_ROW_ITERATIONS(r) ((r).flags)
+
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once.
 typedef struct {
@@ -107,21 +112,50 @@ BTOCL_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c,
     return maxResidual2;
 }
 
+// Joint rows, each within its own limits (motors and joint limits live there), while the joint
+// still takes part: SI solves a joint's rows while iteration < its override count.
+BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclRow* rows,
+                                       BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
+                                       int applyFactors, int iteration) {
+    float maxResidual2 = 0.0f;
+    const int first = c->firstRow[BTOCL_ROWS_JOINT];
+    const int end = first + c->numRows[BTOCL_ROWS_JOINT];
+    if (first == end || iteration >= BTOCL_ROW_ITERATIONS(rows[first])) return 0.0f;  // one count per joint
+    for (int r = first; r < end; ++r) {
+        BTOCL_GLOBAL const btoclRow* row = rows + r;
+        const float residual =
+            btoclSolveRow(row, applied + r, A, B, BTOCL_ROW_LOWER(*row), BTOCL_ROW_UPPER(*row), applyFactors, 0);
+        maxResidual2 = fmax(maxResidual2, residual * residual);
+    }
+    return maxResidual2;
+}
+
 // The rows of one constraint for one pass (BTOCL_PASS_*); returns the largest squared residual.
+// iteration: the velocity iteration, from 0. A step runs max(numIterations, every joint's
+// BTOCL_ROW_ITERATIONS) of them (SI's maxIterations); contact rows take part while iteration <
+// numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows come first,
+// as in SI's iteration (a constraint holds either kind today: a joint or a contact manifold).
 BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclRow* rows,
                                         BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
                                         BTOCL_GLOBAL const btoclBody* bodies, BTOCL_GLOBAL btoclBodyDelta* deltas,
-                                        int pass, int applyFactors) {
+                                        int pass, int applyFactors, int iteration, int numIterations) {
     const int push = pass == BTOCL_PASS_PENETRATION;
     btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);
     btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push);
     float maxResidual2 = 0.0f;
+    // Contact rows take part while iteration < numIterations; joint rows come first, as in SI's
+    // iteration, while the joint's own count allows (btoclSolveJointRows).
+    const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
     if (pass == BTOCL_PASS_FRICTION) {
-        maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors);
-        maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, applied, &A, &B, applyFactors));
+        if (contacts) {
+            maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors);
+            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, applied, &A, &B, applyFactors));
+        }
     } else {
+        // Joints are neither warm-started nor part of the split-impulse iterations (SI's neither).
+        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, applyFactors, iteration);
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
-        const int end = first + c->numRows[BTOCL_ROWS_NORMAL];
+        const int end = contacts ? first + c->numRows[BTOCL_ROWS_NORMAL] : first;
         for (int r = first; r < end; ++r) {
             BTOCL_GLOBAL const btoclRow* row = rows + r;
             float residual = 0.0f;

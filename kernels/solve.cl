@@ -25,7 +25,7 @@ inline uint sweepSeed(int flags, uint stepSeed, int kind, int iteration) {
 inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
                         __global const btoclRow* rows, __global float* applied, __global float* pushApplied,
                         __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int applyFactors,
-                        uint seed) {
+                        uint seed, int iteration, int numIterations) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     float maxResidual2 = 0.0f;
@@ -38,7 +38,7 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
         for (int j = begin + lane; j < end; j += lanes) {
             const int i = seed ? begin + btoclPermute(within, j - begin) : j;
             maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied, bodies,
-                                                                    deltas, pass, applyFactors));
+                                                                    deltas, pass, applyFactors, iteration, numIterations));
         }
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
@@ -49,24 +49,29 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
 inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,
                      __global const btoclConstraint* constraints, __global const btoclRow* rows,
                      __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                     __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags, uint seed) {
+                     __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags, uint seed,
+                     int iteration, int numIterations) {
     const int split = pass == BTOCL_PASS_PENETRATION;
     if (control[split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
     const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, applied,
-                                          pushApplied, bodies, deltas, pass, flags & BTOCL_FLAG_APPLY_FACTORS, seed);
+                                          pushApplied, bodies, deltas, pass, flags & BTOCL_FLAG_APPLY_FACTORS, seed,
+                                          iteration, numIterations);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
         atomic_max(control + (split ? BTOCL_CONTROL_SPLIT_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
 }
 
-// One kernel per pass, so that the compiler folds the pass's branches away.
+// One kernel per pass, so that the compiler folds the pass's branches away. iteration: the
+// velocity iteration, of which contact rows take part in the first numIterations (joints with a
+// larger override count go on; kernels/row_solve.h).
 #define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                          \
     __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,           \
                        __global const btoclConstraint* constraints, __global const btoclRow* rows,             \
                        __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,  \
-                       __global btoclBodyDelta* deltas, __global int* control, int flags, uint seed) {         \
+                       __global btoclBodyDelta* deltas, __global int* control, int flags, uint seed,           \
+                       int iteration, int numIterations) {                                                      \
         solveSet(groups, groupBase, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas, control,  \
-                 PASS, flags, seed);                                                                            \
+                 PASS, flags, seed, iteration, numIterations);                                                  \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
 BTOCL_SOLVE_SET_KERNEL(solvePenetrationRows, BTOCL_PASS_PENETRATION)
@@ -88,11 +93,12 @@ __kernel void endIteration(__global int* control, float threshold, int split) {
 inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
                             __global const btoclConstraint* constraints, __global const btoclRow* rows,
                             __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                            __global btoclBodyDelta* deltas, int pass, int applyFactors, uint seed) {
+                            __global btoclBodyDelta* deltas, int pass, int applyFactors, uint seed, int iteration,
+                            int numIterations) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
         maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, applied, pushApplied,
-                                                     bodies, deltas, pass, applyFactors, seed));
+                                                     bodies, deltas, pass, applyFactors, seed, iteration, numIterations));
     return maxResidual2;
 }
 
@@ -109,13 +115,14 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
 
 // A whole step in one launch of one work-group: the warm start, the split-impulse iterations
 // (when some row has a share: control[BTOCL_CONTROL_HAS_PENETRATION]), then the velocity
-// iterations, each stopped on the device by the residual threshold when one is set. Leaves the
-// velocity iterations run in control[BTOCL_CONTROL_ITERATIONS].
+// iterations (maxIterations: m_numIterations, or more for joints that ask for more), each stopped
+// on the device by the residual threshold when one is set. Leaves the velocity iterations run in
+// control[BTOCL_CONTROL_ITERATIONS].
 __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
                              __global const btoclConstraint* constraints, __global const btoclRow* rows,
                              __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                              __global btoclBodyDelta* deltas, __global int* control, int flags, int numIterations,
-                             float threshold, int warmStart, int splitImpulse, uint stepSeed) {
+                             float threshold, int warmStart, int splitImpulse, uint stepSeed, int maxIterations) {
     __local int groupResidual;
     if (get_local_id(0) == 0) groupResidual = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -123,21 +130,21 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
     if (warmStart)
         solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas,
-                       BTOCL_PASS_WARMSTART, applyFactors, 0u);
+                       BTOCL_PASS_WARMSTART, applyFactors, 0u, 0, numIterations);
     if (splitImpulse && control[BTOCL_CONTROL_HAS_PENETRATION])
         for (int it = 0; it < numIterations; ++it) {
             const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied,
                                            bodies, deltas, BTOCL_PASS_PENETRATION, applyFactors,
-                                           sweepSeed(flags, stepSeed, 1, it));
+                                           sweepSeed(flags, stepSeed, 1, it), it, numIterations);
             if (track && iterationConverged(&groupResidual, r, threshold)) break;
         }
     int iterations = 0;
-    for (int it = 0; it < numIterations; ++it) {
+    for (int it = 0; it < maxIterations; ++it) {
         const uint seed = sweepSeed(flags, stepSeed, 0, it);
         float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas,
-                                 BTOCL_PASS_NORMAL, applyFactors, seed);
+                                 BTOCL_PASS_NORMAL, applyFactors, seed, it, numIterations);
         r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies,
-                                   deltas, BTOCL_PASS_FRICTION, applyFactors, seed));
+                                   deltas, BTOCL_PASS_FRICTION, applyFactors, seed, it, numIterations));
         ++iterations;
         if (track && iterationConverged(&groupResidual, r, threshold)) break;
     }

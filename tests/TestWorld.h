@@ -166,6 +166,17 @@ public:
         m_constraints.push_back(std::move(c));
         return raw;
     }
+    // A btJointFeedback that the world owns, attached to c.
+    btJointFeedback* addFeedback(btTypedConstraint* c) {
+        m_feedbacks.push_back(std::make_unique<btJointFeedback>());
+        c->setJointFeedback(m_feedbacks.back().get());
+        return m_feedbacks.back().get();
+    }
+    std::vector<btTypedConstraint*> constraints() {
+        std::vector<btTypedConstraint*> out;
+        for (int i = 0; i < m_world->getNumConstraints(); ++i) out.push_back(m_world->getConstraint(i));
+        return out;
+    }
 
     // One fixed 60 Hz step. With our solver, the invariants it validated must all hold.
     void step() {
@@ -267,6 +278,7 @@ private:
     std::vector<std::unique_ptr<btRigidBody>> m_bodies;
     std::vector<btRigidBody*> m_bodyList;
     std::vector<std::unique_ptr<btTypedConstraint>> m_constraints;
+    std::vector<std::unique_ptr<btJointFeedback>> m_feedbacks;
     bool m_shuffleOrder = false;  // SI in a new order every iteration (SolverKind::ReferenceShuffled)
     btScalar m_time = 0;
     int m_steps = 0;

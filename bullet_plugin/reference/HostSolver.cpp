@@ -10,9 +10,11 @@ namespace {
 
 // One pass over every set, group and batch in layout order (with a seed, each group's batches
 // and each batch's constraints in that seed's order, as kernels/solve.cl walks them); returns the
-// largest squared residual.
+// largest squared residual. The iteration and m_numIterations matter to the velocity passes only
+// (btoclSolveConstraint).
 float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& applied,
-                std::vector<float>& pushApplied, int pass, int applyFactors, unsigned int seed) {
+                std::vector<float>& pushApplied, int pass, int applyFactors, unsigned int seed, int iteration,
+                int numIterations) {
     float maxResidual2 = 0;
     for (const btoclGroup& g : layout.groups) {
         const btoclPermutation batches = btoclMakePermutation(g.numBatches, seed ^ btoclHash(unsigned(g.offset)));
@@ -26,11 +28,24 @@ float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& a
                 const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
                 maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&c, p.rows.data(), applied.data(),
                                                                            pushApplied.data(), p.bodies.data(),
-                                                                           p.deltas.data(), pass, applyFactors));
+                                                                           p.deltas.data(), pass, applyFactors,
+                                                                           iteration, numIterations));
             }
         }
     }
     return maxResidual2;
+}
+
+// SI's iteration count: m_numIterations, or more when some joint overrides it with more.
+int iterationsWithJoints(const StepProblem& p, int numIterations, int& numJointRows) {
+    int iterations = numIterations;
+    numJointRows = 0;
+    for (const btoclConstraint& c : p.constraints) {
+        if (c.numRows[BTOCL_ROWS_JOINT] == 0) continue;
+        numJointRows += c.numRows[BTOCL_ROWS_JOINT];
+        iterations = std::max(iterations, BTOCL_ROW_ITERATIONS(p.rows[size_t(c.firstRow[BTOCL_ROWS_JOINT])]));
+    }
+    return iterations;
 }
 
 }  // namespace
@@ -49,22 +64,24 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
         const int kind = which == BTOCL_PASS_PENETRATION ? 1 : 0;
         const unsigned int seed =
             permute && which != BTOCL_PASS_WARMSTART ? btoclIterationSeed(settings.stepSeed, kind, iteration) : 0u;
-        return solvePass(p, layout, applied, pushApplied, which, applyFactors, seed);
+        return solvePass(p, layout, applied, pushApplied, which, applyFactors, seed, iteration,
+                         settings.numIterations);
     };
-    int iterations = 0;
-    if (p.numNormalRows > 0) {
+    int iterations = 0, numJointRows = 0;
+    const int maxIterations = iterationsWithJoints(p, settings.numIterations, numJointRows);
+    if (p.numNormalRows > 0 || numJointRows > 0) {
         if (settings.warmStart) pass(BTOCL_PASS_WARMSTART, 0);
         if (settings.splitImpulse)
             for (int it = 0; it < settings.numIterations; ++it)
                 if (pass(BTOCL_PASS_PENETRATION, it) <= settings.residualThreshold && track) break;
-        for (int it = 0; it < settings.numIterations; ++it) {
+        for (int it = 0; it < maxIterations; ++it) {
             const float normal = pass(BTOCL_PASS_NORMAL, it);  // before the friction: SI's order of kinds
             const float residual = std::max(normal, pass(BTOCL_PASS_FRICTION, it));
             ++iterations;
             if (track && residual <= settings.residualThreshold) break;
         }
     }
-    p.appliedImpulses.assign(applied.begin(), applied.begin() + (p.numNormalRows + p.numFrictionRows));
+    p.appliedImpulses = applied;
     return iterations;
 }
 

@@ -10,8 +10,9 @@
 namespace btocl {
 
 // Solves rows set up on the host (p.rows, gather order) in `layout`'s order: the warm start,
-// the split-impulse and the velocity iterations. Leaves p.deltas and p.appliedImpulses as
-// DeviceSolver::download does. Returns the number of velocity iterations run.
+// the split-impulse and the velocity iterations (as many as SI runs: joints may ask for more).
+// Leaves p.deltas as DeviceSolver::download does, and p.appliedImpulses for every row (the device
+// reads back the normal and friction rows, the first ones). Returns the velocity iterations run.
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings);
 
 }  // namespace btocl

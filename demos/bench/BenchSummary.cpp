@@ -30,6 +30,9 @@ Json quality(const SolverSide& side, const RunFacts& facts) {
     Json q = Json::object();
     q["maxPenetration"] = double(-side.minDistance);  // over the run, impacts included
     q["finalPenetration"] = double(-side.lastMinDistance);
+    // Joints that hold two points together: how far apart the two came (null without such joints).
+    q["maxJointError"] = side.maxJointError >= 0 ? Json(double(side.maxJointError)) : Json();
+    q["finalJointError"] = side.lastJointError >= 0 ? Json(double(side.lastJointError)) : Json();
     q["maxDrift"] = double(side.maxDrift);
     q["driftFromStep"] = facts.driftFromStep;
     q["kineticEnergy"] = side.scene ? Json(kineticEnergy(*side.scene)) : Json();
@@ -50,6 +53,7 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
     s["contactPointsMax"] = side.maxContactPoints;
     s["manifolds"] = side.lastCounts.manifolds;
     s["constraintRows"] = side.lastRows;
+    s["jointRows"] = side.lastJointRows;
     s["solveGroupCalls"] = side.lastCounts.groupCalls;
     if (side.kind == SolverKind::OpenCL && side.ocl) {
         const btOpenCLSolverStats& st = side.lastStats;
@@ -90,6 +94,7 @@ std::string summariseRun(const BenchOptions& options, const RunFacts& facts, con
     j["dt"] = options.dt;
     const SolverSide* any = si && si->scene ? si : ours;
     j["bodies"] = any && any->scene ? Json(any->scene->numDynamicBodies()) : Json();
+    j["joints"] = any && any->scene ? Json(any->scene->joints().size()) : Json();
     j["contactPoints"] = any ? Json(any->lastCounts.contactPoints) : Json();
     j["device"] = facts.deviceName.empty() ? Json() : Json(facts.deviceName);
     if (options.standIn) j["standIn"] = "ours is a second btSequentialImpulseConstraintSolver (--stand-in)";

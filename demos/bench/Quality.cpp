@@ -54,4 +54,36 @@ btScalar maxCentreHeight(const SceneWorld& w) {
     return top;
 }
 
+btScalar jointPivotGap(const btTypedConstraint& joint) {
+    const btTransform& a = joint.getRigidBodyA().getCenterOfMassTransform();
+    const btTransform& b = joint.getRigidBodyB().getCenterOfMassTransform();
+    switch (joint.getConstraintType()) {
+        case POINT2POINT_CONSTRAINT_TYPE: {
+            const auto& p2p = static_cast<const btPoint2PointConstraint&>(joint);
+            return (a * p2p.getPivotInA()).distance(b * p2p.getPivotInB());
+        }
+        case HINGE_CONSTRAINT_TYPE: {
+            const auto& hinge = static_cast<const btHingeConstraint&>(joint);
+            return (a * hinge.getAFrame().getOrigin()).distance(b * hinge.getBFrame().getOrigin());
+        }
+        case CONETWIST_CONSTRAINT_TYPE: {
+            const auto& cone = static_cast<const btConeTwistConstraint&>(joint);
+            return (a * cone.getAFrame().getOrigin()).distance(b * cone.getBFrame().getOrigin());
+        }
+        case FIXED_CONSTRAINT_TYPE: {
+            const auto& fixed = static_cast<const btFixedConstraint&>(joint);
+            return (a * fixed.getFrameOffsetA().getOrigin()).distance(b * fixed.getFrameOffsetB().getOrigin());
+        }
+        default:
+            return -1;
+    }
+}
+
+btScalar maxJointError(const SceneWorld& w) {
+    btScalar worst = -1;
+    for (const btTypedConstraint* j : w.joints())
+        if (j->isEnabled()) worst = std::max(worst, jointPivotGap(*j));
+    return worst;
+}
+
 }  // namespace btbench

@@ -23,4 +23,12 @@ btScalar maxDistance(const std::vector<btVector3>& a, const std::vector<btVector
 // Highest point of any dynamic box's centre (shows whether a stack still stands).
 btScalar maxCentreHeight(const SceneWorld& w);
 
+// How far a joint has come apart: the distance in world space between its pivot as body A
+// carries it and as body B does, for joints that hold a point of each body together
+// (point-to-point, hinge, cone-twist, fixed); -1 for other types.
+btScalar jointPivotGap(const btTypedConstraint& joint);
+
+// The largest pivot gap over the world's enabled joints; -1 when it has none that hold a point.
+btScalar maxJointError(const SceneWorld& w);
+
 }  // namespace btbench

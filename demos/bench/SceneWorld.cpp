@@ -12,7 +12,9 @@ SceneWorld::SceneWorld(btConstraintSolver* solver)
 }
 
 SceneWorld::~SceneWorld() {
-    // The world touches its bodies' broadphase proxies when it goes, so take them out first.
+    // The world touches its bodies' broadphase proxies when it goes, so take them out first
+    // (and the joints before the bodies they refer to).
+    for (auto& j : m_ownedJoints) m_world->removeConstraint(j.get());
     for (auto& b : m_ownedBodies) m_world->removeRigidBody(b.get());
     m_world.reset();
 }
@@ -58,6 +60,13 @@ btRigidBody* SceneWorld::addBox(const btVector3& halfExtents, const btTransform&
     m_world->addRigidBody(body);
     m_bodies.push_back({body, halfExtents, true});
     return body;
+}
+
+btTypedConstraint* SceneWorld::addJoint(std::unique_ptr<btTypedConstraint> joint) {
+    m_world->addConstraint(joint.get(), true);
+    m_joints.push_back(joint.get());
+    m_ownedJoints.push_back(std::move(joint));
+    return m_joints.back();
 }
 
 }  // namespace btbench

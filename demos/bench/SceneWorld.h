@@ -1,4 +1,4 @@
-// A Bullet world that owns everything a scene puts in it (shapes, bodies, motion states),
+// A Bullet world that owns everything a scene puts in it (shapes, bodies, motion states, joints),
 // built around a constraint solver it does not own. Two SceneWorlds built by the same scene
 // function with the same options hold the same bodies in the same order, so body i of one
 // corresponds to body i of the other.
@@ -35,6 +35,10 @@ public:
     // sees the whole scene (a benchmark must not measure sleeping bodies).
     btRigidBody* addBox(const btVector3& halfExtents, const btTransform& transform, btScalar density,
                         const btVector3& linearVelocity = btVector3(0, 0, 0));
+    // A joint between bodies of this world; its two bodies no longer collide with each other
+    // (btDiscreteDynamicsWorld's disableCollisionsBetweenLinkedBodies, as linked bodies usually are).
+    btTypedConstraint* addJoint(std::unique_ptr<btTypedConstraint> joint);
+    const std::vector<btTypedConstraint*>& joints() const { return m_joints; }
 
 private:
     btBoxShape* boxShape(const btVector3& halfExtents);  // shared per size
@@ -47,6 +51,8 @@ private:
     std::vector<std::unique_ptr<btMotionState>> m_motionStates;
     std::vector<std::unique_ptr<btRigidBody>> m_ownedBodies;
     std::vector<BodyRecord> m_bodies;
+    std::vector<std::unique_ptr<btTypedConstraint>> m_ownedJoints;
+    std::vector<btTypedConstraint*> m_joints;
 };
 
 }  // namespace btbench

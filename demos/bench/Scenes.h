@@ -1,7 +1,7 @@
 // The benchmark's scenes: plain functions that fill a SceneWorld with a static ground and
-// dynamic boxes (btBoxShape, mass from density). Each is sized by one number, `size`, whose
-// meaning the scene's description gives. The same function with the same size always builds
-// the same bodies in the same order.
+// dynamic boxes (btBoxShape, mass from density), some joined by joints. Each is sized by one
+// number, `size`, whose meaning the scene's description gives. The same function with the same
+// size always builds the same bodies and joints in the same order.
 #pragma once
 
 #include "SceneWorld.h"
@@ -18,6 +18,8 @@ void buildPile(SceneWorld& w, int count);              // `count` boxes dropped 
 void buildColumnsCollapse(SceneWorld& w, int count);   // the paper's Figure 1: leaning columns
 void buildBondedBlock(SceneWorld& w, int count);       // dense block, layers offset by half a box
 void buildGridBlock(SceneWorld& w, int count);         // dense block, boxes aligned in a grid
+void buildRagdolls(SceneWorld& w, int count);          // `count` ragdolls dropped onto each other
+void buildMachine(SceneWorld& w, int chains);          // chains, hinged pendulums, motor-driven paddles
 
 struct SceneInfo {
     const char* name;

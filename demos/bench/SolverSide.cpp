@@ -49,11 +49,15 @@ void stepSolverSide(SolverSide& side, double dt) {
     side.msPerStep.push_back(c.ms);
     side.lastCounts = c;
     side.maxContactPoints = std::max(side.maxContactPoints, c.contactPoints);
-    if (side.si) side.lastRows = side.si->rowsThisStep();
+    if (side.si) {
+        side.lastRows = side.si->rowsThisStep();
+        side.lastJointRows = side.si->jointRowsThisStep();
+    }
     if (side.ocl) {
         const btOpenCLSolverStats& s = side.ocl->getLastStats();
         side.lastStats = s;
         side.lastRows = s.numConstraintRows;
+        side.lastJointRows = s.numJointRows;
         if (s.validationFailures > 0 && side.validationFailures == 0)
             side.firstValidationFailure = "step " + std::to_string(side.stepsDone) + ": " + s.lastValidationMessage;
         side.validationFailures += s.validationFailures;
@@ -74,6 +78,8 @@ void trackQuality(SolverSide& side, bool setDriftReference) {
     if (!side.scene) return;
     side.lastMinDistance = minContactDistance(*side.scene);
     side.minDistance = std::min(side.minDistance, side.lastMinDistance);
+    side.lastJointError = maxJointError(*side.scene);
+    side.maxJointError = std::max(side.maxJointError, side.lastJointError);
     if (setDriftReference) side.driftReference = dynamicPositions(*side.scene);
     if (!side.driftReference.empty())
         side.maxDrift = std::max(side.maxDrift, maxDistance(dynamicPositions(*side.scene), side.driftReference));

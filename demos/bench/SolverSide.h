@@ -37,7 +37,7 @@ struct SolverSide {
     std::vector<double> msPerStep;  // solver wall time of each step
     PhaseSamples phases;
     SolverStepCounts lastCounts;
-    int lastRows = 0, maxContactPoints = 0;
+    int lastRows = 0, lastJointRows = 0, maxContactPoints = 0;
     btOpenCLSolverStats lastStats;
     int validationFailures = 0;         // over all steps (with --validate)
     std::string firstValidationFailure;
@@ -47,6 +47,8 @@ struct SolverSide {
     btScalar lastMinDistance = 0;           // the same, in the last state tracked
     std::vector<btVector3> driftReference;  // positions at the drift reference step
     btScalar maxDrift = 0;
+    btScalar maxJointError = -1;            // largest joint pivot gap seen (-1: no such joint)
+    btScalar lastJointError = -1;           // the same, in the last state tracked
 };
 
 // Builds the solver and the scene's world around it. A solver that cannot be made (no OpenCL
@@ -57,7 +59,7 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
 // One world step of dt; records the timings and counts. Catches what the solver throws.
 void stepSolverSide(SolverSide& side, double dt);
 
-// Quality bookkeeping after a step: penetration, and drift from the reference once set.
+// Quality bookkeeping after a step: penetration, joint error, and drift from the reference once set.
 void trackQuality(SolverSide& side, bool setDriftReference);
 
 }  // namespace btbench

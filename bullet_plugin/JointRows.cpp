@@ -1,0 +1,220 @@
+#include "JointRows.h"
+
+#include "BulletConversions.h"
+#include "btOpenCLConstraintSolver.h"
+#include "row_setup.h"
+#include "row_solve.h"
+
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletDynamics/ConstraintSolver/btSolverConstraint.h>
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace btocl {
+namespace {
+
+// A joint's side as SI's convertJoint reads it. A body of the solver is its record. The fixed
+// body stands for every static object, but SI reads the static body itself (its own velocity
+// and inertia, usually zero) and no external impulses: so does this record.
+btoclBody jointSide(const btRigidBody& rb, int index, const std::vector<btoclBody>& solverBodies) {
+    if (index != 0) return solverBodies[size_t(index)];
+    btoclBody b = solverBodies[0];
+    const btScalar invMass = rb.getInvMass();
+    b.invMass = toFloat4(btVector3(invMass, invMass, invMass) * rb.getLinearFactor(), 0.f);
+    b.linearFactor = toFloat4(rb.getLinearFactor(), invMass);
+    b.angularFactor = toFloat4(rb.getAngularFactor(), 0.f);  // w 0: not a body of the solver
+    const btMatrix3x3& I = rb.getInvInertiaTensorWorld();
+    b.invInertiaRow0 = toFloat4(I[0]);
+    b.invInertiaRow1 = toFloat4(I[1]);
+    b.invInertiaRow2 = toFloat4(I[2]);
+    b.linearVelocity = toFloat4(rb.getLinearVelocity());
+    b.angularVelocity = toFloat4(rb.getAngularVelocity());
+    return b;
+}
+
+// The joint's rows as getInfo2 leaves them, exactly as SI's convertJoint prepares them: cleared,
+// limits open, the first row's cfm the global one, the info's pointers into the first row.
+// Returns the info's m_damping afterwards (a point-to-point joint sets its own).
+btScalar fillRowsFromJoint(btTypedConstraint& joint, int numRows, const btContactSolverInfo& info,
+                           btConstraintArray& scratch) {
+    scratch.resizeNoInitialize(numRows);
+    for (int j = 0; j < numRows; ++j) {
+        btSolverConstraint& row = scratch[j];
+        std::memset(static_cast<void*>(&row), 0, sizeof(btSolverConstraint));
+        row.m_lowerLimit = -SIMD_INFINITY;
+        row.m_upperLimit = SIMD_INFINITY;
+    }
+    btSolverConstraint& first = scratch[0];
+    btTypedConstraint::btConstraintInfo2 info2;
+    info2.fps = btScalar(1) / info.m_timeStep;
+    info2.erp = info.m_erp;
+    info2.m_J1linearAxis = first.m_contactNormal1;
+    info2.m_J1angularAxis = first.m_relpos1CrossNormal;
+    info2.m_J2linearAxis = first.m_contactNormal2;
+    info2.m_J2angularAxis = first.m_relpos2CrossNormal;
+    info2.rowskip = int(sizeof(btSolverConstraint) / sizeof(btScalar));
+    info2.m_constraintError = &first.m_rhs;
+    first.m_cfm = info.m_globalCfm;
+    info2.cfm = &first.m_cfm;
+    info2.m_damping = info.m_damping;
+    info2.m_lowerLimit = &first.m_lowerLimit;
+    info2.m_upperLimit = &first.m_upperLimit;
+    info2.m_numIterations = info.m_numIterations;
+    joint.getInfo2(&info2);
+    return info2.m_damping;
+}
+
+// What getInfo2 wrote into one row, in the lanes that btoclJointRow reads.
+btoclRow rowFromJoint(const btSolverConstraint& s, int bodyA, int bodyB) {
+    btoclRow r{};
+    r.contactNormal1 = toFloat4(s.m_contactNormal1);
+    r.relpos1CrossNormal = toFloat4(s.m_relpos1CrossNormal);
+    r.contactNormal2 = toFloat4(s.m_contactNormal2);
+    r.relpos2CrossNormal = toFloat4(s.m_relpos2CrossNormal);
+    BTOCL_ROW_RHS(r) = s.m_rhs;
+    BTOCL_ROW_CFM(r) = s.m_cfm;
+    BTOCL_ROW_LOWER(r) = s.m_lowerLimit;
+    BTOCL_ROW_UPPER(r) = s.m_upperLimit;
+    r.bodyA = bodyA;
+    r.bodyB = bodyB;
+    return r;
+}
+
+bool isFiniteRow(const btoclRow& r) {
+    const btoclFloat4 lanes[] = {r.contactNormal1, r.relpos1CrossNormal, r.contactNormal2, r.relpos2CrossNormal,
+                                 r.angularComponentA, r.angularComponentB};
+    for (const btoclFloat4& v : lanes)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.w)) return false;
+    return true;
+}
+
+// The box each dynamic body's constraints reach: its AABB (as the gather measures it), grown by
+// the split points of its joints.
+struct ReachBoxes {
+    std::vector<btVector3> lo, hi;
+    std::vector<unsigned char> known;
+
+    explicit ReachBoxes(size_t numBodies) : lo(numBodies), hi(numBodies), known(numBodies, 0) {}
+    void aabbOf(const btRigidBody& rb, int index, btVector3& outLo, btVector3& outHi) {
+        if (!known[size_t(index)]) {
+            const btTransform& xf = rb.getWorldTransform();
+            if (rb.getCollisionShape()) {
+                rb.getCollisionShape()->getAabb(xf, lo[size_t(index)], hi[size_t(index)]);
+            } else {
+                lo[size_t(index)] = hi[size_t(index)] = xf.getOrigin();
+            }
+            known[size_t(index)] = 1;
+        }
+        outLo = lo[size_t(index)];
+        outHi = hi[size_t(index)];
+    }
+    void grow(int index, const btVector3& p) {
+        lo[size_t(index)].setMin(p);
+        hi[size_t(index)].setMax(p);
+    }
+};
+
+// The joint's point for the global split. DESIGN §5: a dynamic body's constraints must all fall
+// within one cell's edge of each other, and the cell is sized from the bodies' AABBs, within which
+// their contact points lie. Where the two AABBs overlap (linked bodies do at their pivot: chain
+// links, limbs) the point is the middle of the overlap, inside both, and neither body reaches
+// further than its contacts do. Where they are apart, it is halfway across the gap on that axis,
+// and each body's reach grows by half the gap: splitExtent says so, and the split then takes a
+// bigger cell or, by its rule for big bodies, the overflow group. (The midpoint of the two centres
+// would not do: by a long forearm it lies outside a small hand's AABB.) With one dynamic body, the
+// middle of its AABB; with none, nothing locks and any point does.
+btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool dynamicA, bool dynamicB,
+                       ReachBoxes& reach) {
+    const btRigidBody& rbA = joint.getRigidBodyA();
+    const btRigidBody& rbB = joint.getRigidBodyB();
+    if (!dynamicA && !dynamicB) return (rbA.getCenterOfMassPosition() + rbB.getCenterOfMassPosition()) * btScalar(0.5);
+    btVector3 loA, hiA, loB, hiB;
+    reach.aabbOf(dynamicA ? rbA : rbB, dynamicA ? j.bodyA : j.bodyB, loA, hiA);  // the other's, if A is not dynamic
+    reach.aabbOf(dynamicB ? rbB : rbA, dynamicB ? j.bodyB : j.bodyA, loB, hiB);
+    btVector3 lo = loA, hi = hiA;
+    lo.setMax(loB);
+    hi.setMin(hiB);
+    return (lo + hi) * btScalar(0.5);  // per axis: middle of the overlap, or of the gap
+}
+
+}  // namespace
+
+// The joints one after another. Each joint's getInfo2 writes only its own rows and its own state,
+// so with many joints the loop over them could be split across threads (rows counted first, as
+// here, then each range of joints filled into its own scratch); one thread suffices for now.
+JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
+                           const std::vector<btoclBody>& solverBodies, const btContactSolverInfo& info) {
+    JointRowSet set;
+    set.maxIterations = info.m_numIterations;
+    set.joints.resize(size_t(std::max(0, numConstraints)));
+    // Row counts first, as SI's convertJoints (buildJacobian serves joints on the obsolete path).
+    int numRows = 0;
+    for (int i = 0; i < numConstraints; ++i) {
+        btTypedConstraint* c = constraints[i];
+        c->buildJacobian();
+        StepJoint& j = set.joints[size_t(i)];
+        j.constraint = c;
+        j.feedback = c->getJointFeedback();
+        j.bodyA = bodies[i].bodyA;
+        j.bodyB = bodies[i].bodyB;
+        j.breakingImpulseThreshold = c->getBreakingImpulseThreshold();
+        j.numIterations = c->getOverrideNumSolverIterations() > 0 ? c->getOverrideNumSolverIterations()
+                                                                   : info.m_numIterations;
+        if (c->isEnabled()) {
+            btTypedConstraint::btConstraintInfo1 info1;
+            c->getInfo1(&info1);
+            j.numRows = info1.m_numConstraintRows;
+        }
+        j.firstRow = numRows;
+        numRows += j.numRows;
+    }
+    set.rows.resize(size_t(numRows));
+    set.splitExtent.assign(solverBodies.size(), 0.f);
+
+    ReachBoxes reach(solverBodies.size());
+    btConstraintArray scratch;
+    for (int i = 0; i < numConstraints; ++i) {
+        StepJoint& j = set.joints[size_t(i)];
+        if (j.numRows == 0) continue;
+        btTypedConstraint& c = *j.constraint;
+        set.maxIterations = std::max(set.maxIterations, j.numIterations);
+        const btScalar damping = fillRowsFromJoint(c, j.numRows, info, scratch);
+        const btoclBody A = jointSide(c.getRigidBodyA(), j.bodyA, solverBodies);
+        const btoclBody B = jointSide(c.getRigidBodyB(), j.bodyB, solverBodies);
+        for (int k = 0; k < j.numRows; ++k) {
+            btoclRow r = btoclJointRow(rowFromJoint(scratch[k], j.bodyA, j.bodyB), &A, &B, damping,
+                                       j.breakingImpulseThreshold);
+            if (!isFiniteRow(r))
+                throw btOpenCLSolverError("btOpenCLConstraintSolver: joint " + std::to_string(i) +
+                                          " of the step has a non-finite row (its frames, limits or bodies)");
+            BTOCL_ROW_ITERATIONS(r) = j.numIterations;
+            set.rows[size_t(j.firstRow + k)] = r;
+        }
+
+        btoclConstraint con{};
+        con.bodyA = j.bodyA;
+        con.bodyB = j.bodyB;
+        con.dynamicA = BTOCL_BODY_IS_DYNAMIC(A) != 0;
+        con.dynamicB = BTOCL_BODY_IS_DYNAMIC(B) != 0;
+        con.firstRow[BTOCL_ROWS_JOINT] = j.firstRow;
+        con.numRows[BTOCL_ROWS_JOINT] = j.numRows;
+        const btVector3 point = splitPointOf(c, j, con.dynamicA, con.dynamicB, reach);
+        con.position = toFloat4(point);
+        if (con.dynamicA) reach.grow(j.bodyA, point);
+        if (con.dynamicB) reach.grow(j.bodyB, point);
+        j.constraintIndex = int(set.constraints.size());
+        set.constraints.push_back(con);
+    }
+    for (size_t b = 0; b < solverBodies.size(); ++b)
+        if (reach.known[b]) {
+            const btVector3 size = reach.hi[b] - reach.lo[b];
+            set.splitExtent[b] = float(size[size.maxAxis()]);
+        }
+    return set;
+}
+
+}  // namespace btocl

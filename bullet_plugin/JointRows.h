@@ -1,0 +1,58 @@
+// Joint rows on the host, as btSequentialImpulseConstraintSolver makes them (convertJoints,
+// convertJoint): each btTypedConstraint's getInfo1/getInfo2, finished with the row math that the
+// contact rows share (kernels/row_setup.h: btoclJointRow), as btoclRow records and one
+// btoclConstraint per joint for the split, the batches and the solve. What the write-back needs
+// stays beside them (StepJoint; JointWriteBack.h). Reads Bullet and writes nothing to it but what
+// getInfo1/getInfo2 keep inside each joint (limit and motor state), as SI's set-up does.
+#pragma once
+
+#include "btocl_shared.h"
+
+#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+
+#include <vector>
+
+class btTypedConstraint;
+struct btJointFeedback;
+
+namespace btocl {
+
+// The two solver bodies of a joint (StepGatherer::solverBodyOf; 0 is the fixed body).
+struct JointBodies {
+    int bodyA = 0, bodyB = 0;
+};
+
+// One btTypedConstraint of the step, with or without rows (SI resets the feedback and the
+// applied impulse of a disabled joint too).
+struct StepJoint {
+    btTypedConstraint* constraint = nullptr;
+    btJointFeedback* feedback = nullptr;  // its getJointFeedback(), or null
+    int bodyA = 0, bodyB = 0;             // solver body indices
+    int firstRow = 0, numRows = 0;        // its rows in JointRowSet::rows (0 rows: disabled, or none asked)
+    int constraintIndex = -1;             // its btoclConstraint in JointRowSet::constraints, -1 without rows
+    int numIterations = 0;                // SI's override: getOverrideNumSolverIterations(), else m_numIterations
+    float breakingImpulseThreshold = 0;
+};
+
+struct JointRowSet {
+    std::vector<StepJoint> joints;  // every constraint passed, in the order passed
+    // The rows of all joints, joint after joint in that order (SI's m_tmpSolverNonContactConstraintPool).
+    std::vector<btoclRow> rows;
+    // One per joint with rows, in the same order: rows [firstRow, firstRow + numRows) of kind
+    // BTOCL_ROWS_JOINT index `rows` (no rows of other kinds); position is the joint's split point.
+    std::vector<btoclConstraint> constraints;
+    // Per solver body: the largest edge of the box that holds its AABB and the split points of its
+    // joints (0 for bodies without joints, and for static and kinematic ones). The global split
+    // needs a cell at least this big (DESIGN §5): take max(SplitBody::extent, splitExtent).
+    std::vector<float> splitExtent;
+    // The step's velocity iterations: max(m_numIterations, every joint's override), SI's maxIterations.
+    int maxIterations = 0;
+};
+
+// Rows for `numConstraints` joints. bodies[i]: joint i's solver bodies; solverBodies: the step's
+// body records (StepProblem::bodies), read for the external impulses of this step and the
+// dynamic bodies' state. Throws btOpenCLSolverError when a joint's row is not finite.
+JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
+                           const std::vector<btoclBody>& solverBodies, const btContactSolverInfo& info);
+
+}  // namespace btocl
