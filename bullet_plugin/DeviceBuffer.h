@@ -14,6 +14,13 @@ namespace btocl {
 template <class T>
 class DeviceBuffer {
 public:
+    DeviceBuffer() = default;
+    DeviceBuffer(const DeviceBuffer&) = delete;  // one owner: its bytes are counted on the runtime
+    DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+    ~DeviceBuffer() {
+        if (m_rt) m_rt->noteBufferBytes(m_capacity * sizeof(T), 0);
+    }
+
     // Room for at least n elements. Grows by half again on overflow; contents are lost on growth.
     void reserve(const OclRuntime& rt, size_t n) {
         if (n <= m_capacity && m_buffer()) return;
@@ -24,9 +31,12 @@ public:
                                       " bytes exceeds the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE of " +
                                       std::to_string(rt.maxAllocSize()));
         cl_int err = CL_SUCCESS;
-        m_buffer = cl::Buffer(rt.context(), CL_MEM_READ_WRITE, cap * sizeof(T), nullptr, &err);
+        cl::Buffer grown(rt.context(), CL_MEM_READ_WRITE, cap * sizeof(T), nullptr, &err);
         checkCl(err, "allocating a device buffer");
+        rt.noteBufferBytes(m_capacity * sizeof(T), cap * sizeof(T));
+        m_buffer = grown;
         m_capacity = cap;
+        m_rt = &rt;
     }
 
     // Copies n elements from host memory (blocking unless an event is asked for; then `data`
@@ -79,6 +89,7 @@ public:
 private:
     cl::Buffer m_buffer;
     size_t m_capacity = 0;
+    const OclRuntime* m_rt = nullptr;  // the runtime its bytes are counted on
 };
 
 }  // namespace btocl

@@ -61,6 +61,11 @@ public:
     void launch(const cl::Kernel& kernel, size_t items, size_t local, const char* what,
                 cl::Event* event = nullptr) const;
 
+    // Bytes held by the DeviceBuffers made on this runtime (what a step keeps on the device;
+    // Boost.Compute's own scratch is not counted).
+    size_t bufferBytes() const { return m_bufferBytes; }
+    void noteBufferBytes(size_t released, size_t allocated) const { m_bufferBytes += allocated - released; }
+
     // Waits for the queue; turns an asynchronous device error into an exception.
     void finish(const char* what) const;
 
@@ -72,6 +77,7 @@ private:
     bool m_isCpu = false;
     bool m_profiling = false;
     size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0;
+    mutable size_t m_bufferBytes = 0;
 };
 
 // Milliseconds between an event's start and end (0 without profiling).

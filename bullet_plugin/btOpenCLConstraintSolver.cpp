@@ -170,6 +170,7 @@ struct btOpenCLConstraintSolver::Impl {
 
             btocl::writeBackStep(p, info);
             s.msWriteback = timer.lap();
+            s.deviceBytes = double(runtime.bufferBytes());
 
             fillCounts(s, p);
         } catch (...) {

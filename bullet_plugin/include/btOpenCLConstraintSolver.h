@@ -65,6 +65,9 @@ struct btOpenCLSolverStats {
     // then it has one group (numCellGroups 0). Otherwise the cell groups plus the overflow group.
     bool solvedWholeStep = false;
     int numGroups = 0;
+    // Device memory the solver's buffers hold after the step (they are kept and grown, never
+    // shrunk; the sort library's own scratch is not counted).
+    double deviceBytes = 0;
     std::string lastValidationMessage;  // first invariant failure of the last step, if any
 };
 
