@@ -6,8 +6,10 @@
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#include <algorithm>
 #include <string>
 
 namespace btocl {
@@ -74,6 +76,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     m_info = info;
     m_setup = setup;
     m_manifolds.clear();
+    m_joints.clear();
     StepProblem& p = m_problem;
     p.original.assign(1, nullptr);
     p.bodies.assign(1, btoclBody{});
@@ -83,6 +86,9 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.constraints.clear();
     p.manifoldOfConstraint.clear();
     p.rows.clear();
+    p.hostRowBase = 0;
+    p.joints = JointRowSet{};
+    p.jointRowBase = 0;
     p.points.clear();
     p.manifoldPoints.clear();
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
@@ -161,6 +167,34 @@ void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
 
 void StepGatherer::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
     m_manifolds.insert(m_manifolds.end(), manifolds, manifolds + numManifolds);
+}
+
+void StepGatherer::addJoints(btTypedConstraint* const* joints, int numJoints) {
+    m_joints.insert(m_joints.end(), joints, joints + numJoints);
+}
+
+// The joints' rows (JointRows.h) after every contact row, one constraint per joint with rows
+// after the manifolds' constraints. Their bodies get solver bodies as SI's convertJoints gives
+// them; a body's joints widen the reach the global split plans its cells for.
+void StepGatherer::addJointRows() {
+    StepProblem& p = m_problem;
+    std::vector<JointBodies> bodies(m_joints.size());
+    for (size_t i = 0; i < m_joints.size(); ++i)
+        if (m_joints[i]->isEnabled()) {
+            bodies[i].bodyA = solverBodyOf(&m_joints[i]->getRigidBodyA());
+            bodies[i].bodyB = solverBodyOf(&m_joints[i]->getRigidBodyB());
+        }
+    p.joints = setUpJointRows(m_joints.data(), int(m_joints.size()), bodies.data(), p.bodies, m_info);
+    p.jointRowBase = p.numNormalRows + p.numFrictionRows + p.numRollingRows;
+    for (btoclConstraint c : p.joints.constraints) {
+        c.firstRow[BTOCL_ROWS_JOINT] += p.jointRowBase;
+        p.constraints.push_back(c);
+        p.manifoldOfConstraint.push_back(nullptr);
+    }
+    for (size_t b = 0; b < p.splitBodies.size(); ++b)
+        p.splitBodies[b].extent = std::max(p.splitBodies[b].extent, p.joints.splitExtent[b]);
+    if (p.rowsOnDevice) p.hostRowBase = p.jointRowBase;  // the host's rows are the joints' alone
+    p.rows.insert(p.rows.end(), p.joints.rows.begin(), p.joints.rows.end());
 }
 
 // SI's convertContact: the points of a manifold in reach, as records for kernels/setup.cl. Row
@@ -246,6 +280,7 @@ StepProblem& StepGatherer::finish() {
     }
     p.setupParams = setupParamsOf(m_info, int(p.points.size()));
     if (!p.rowsOnDevice) setupRowsOnHost(p);
+    if (!m_joints.empty()) addJointRows();
     return p;
 }
 

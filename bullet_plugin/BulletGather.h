@@ -13,6 +13,7 @@
 class btCollisionObject;
 class btPersistentManifold;
 class btRigidBody;
+class btTypedConstraint;
 
 namespace btocl {
 
@@ -26,6 +27,8 @@ public:
     // Throws btOpenCLSolverError on a body with a non-finite state, naming its world index.
     void addBodies(btCollisionObject* const* bodies, int numBodies);
     void addManifolds(btPersistentManifold* const* manifolds, int numManifolds);
+    // Joints (btTypedConstraint); disabled ones take no rows, as with SI.
+    void addJoints(btTypedConstraint* const* joints, int numJoints);
     // Packs every manifold's points (and, for host setup, sets the rows up) and returns the
     // finished problem. Throws btOpenCLSolverError on a non-finite contact point.
     StepProblem& finish();
@@ -41,10 +44,12 @@ public:
 private:
     int addSolverBody(btRigidBody* rb);
     void packManifold(btPersistentManifold* manifold);
+    void addJointRows();
 
     btContactSolverInfo m_info;
     RowSetup m_setup = RowSetup::Device;
     std::vector<btPersistentManifold*> m_manifolds;
+    std::vector<btTypedConstraint*> m_joints;
     StepProblem m_problem;
     int m_numFriction = 0, m_numRolling = 0;  // friction and rolling rows counted so far
 };

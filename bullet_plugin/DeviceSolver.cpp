@@ -34,14 +34,11 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_deltas.enqueueWrite(m_rt, p.deltas);
     m_constraints.enqueueWrite(m_rt, p.constraints);
     m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
-    if (!p.rowsOnDevice)  // the setup kernel sets this flag itself
-        for (const btoclRow& r : p.rows)
+    for (const btoclRow& r : p.rows)  // the setup kernel flags the rows it sets up
             if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
     m_control.enqueueWrite(m_rt, m_controlStart);
-    if (p.rowsOnDevice)
-        m_points.enqueueWrite(m_rt, p.points);
-    else
-        m_hostRows.enqueueWrite(m_rt, p.rows);
+    if (p.rowsOnDevice) m_points.enqueueWrite(m_rt, p.points);
+    m_hostRows.enqueueWrite(m_rt, p.rows);
 }
 
 DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
@@ -74,12 +71,12 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
             m_rowMap.buffer(), n);
     m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
 
-    if (!p.rowsOnDevice) {
-        setArgs(m_placeRows, m_hostRows.buffer(), m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
-                m_pushApplied.buffer(), numRows);
-        m_rt.launch(m_placeRows, size_t(numRows), kLanes, "launching placeRows");
-        return;
+    if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'
+        setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase, m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
+                m_pushApplied.buffer(), int(p.rows.size()));
+        m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
+    if (!p.rowsOnDevice || p.points.empty()) return;
     m_lateralDirs.reserve(m_rt, 2 * p.points.size());
     setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
             m_pushApplied.buffer(), m_lateralDirs.buffer(), m_control.buffer(), p.setupParams);
@@ -103,12 +100,12 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
             m_placed.buffer(), m_rows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.residualThreshold,
-            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed), s.numIterations);
+            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed), s.maxIterations);
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
 void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
-    if (p.numNormalRows == 0) return;
+    if (p.constraints.empty()) return;
     if (layout.wholeStep) {
         launchWholeStep(layout, s);
         return;
@@ -129,9 +126,10 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
             launchPass(layout, BTOCL_PASS_PENETRATION, s, seed(1, it), it);
             endIteration(1);
         }
-    for (int it = 0; it < s.numIterations; ++it) {
+    for (int it = 0; it < s.maxIterations; ++it) {
         launchPass(layout, BTOCL_PASS_NORMAL, s, seed(0, it), it);
-        launchPass(layout, BTOCL_PASS_FRICTION, s, seed(0, it), it);
+        // Past m_numIterations only joints with a larger override count are solved.
+        if (it < s.numIterations) launchPass(layout, BTOCL_PASS_FRICTION, s, seed(0, it), it);
         endIteration(0);
     }
 }
@@ -147,7 +145,7 @@ bool DeviceSolver::anyPenetrationShare() const {
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     // Every copy enqueued, then one wait.
     m_deltas.enqueueRead(m_rt, p.deltas.data(), p.deltas.size());
-    const int n = p.numNormalRows + p.numFrictionRows;
+    const int n = p.numRows();
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
         m_impulses.reserve(m_rt, size_t(n));
@@ -159,8 +157,8 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
         p.lateralDirs.resize(2 * p.points.size());
         m_lateralDirs.enqueueRead(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
     }
-    int iterations = p.numNormalRows > 0 ? s.numIterations : 0;
-    const bool counted = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0 && p.numNormalRows > 0;
+    int iterations = p.constraints.empty() ? 0 : s.maxIterations;
+    const bool counted = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0 && !p.constraints.empty();
     if (counted) m_control.enqueueRead(m_rt, m_controlEnd.data(), m_controlEnd.size());
     m_rt.finish("reading the results back");
     if (counted) iterations = m_controlEnd[BTOCL_CONTROL_ITERATIONS];

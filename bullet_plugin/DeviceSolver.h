@@ -38,7 +38,7 @@ public:
     void arrange(const StepProblem& p, const DeviceLayoutView& layout);
     // Enqueues the warm start and every split-impulse and velocity iteration.
     void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
-    // Reads back p.deltas, p.appliedImpulses (normal and friction rows, gather order) and, with
+    // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
     int download(StepProblem& p, const SolveSettings& settings);
     // The rows as they are on the device, in gather order (tests compare them with the host's).

@@ -81,6 +81,7 @@ btoclRow rowFromJoint(const btSolverConstraint& s, int bodyA, int bodyB) {
     BTOCL_ROW_UPPER(r) = s.m_upperLimit;
     r.bodyA = bodyA;
     r.bodyB = bodyB;
+    r.frictionIndex = -1;
     return r;
 }
 

@@ -8,7 +8,8 @@
 namespace btocl {
 
 struct SolveSettings {
-    int numIterations = 10;
+    int numIterations = 10;      // m_numIterations: contact rows take part in these
+    int maxIterations = 10;      // velocity iterations run: more when a joint's override asks
     int flags = 0;               // BTOCL_FLAG_*
     float residualThreshold = 0;
     bool splitImpulse = false;
@@ -19,7 +20,7 @@ struct SolveSettings {
     // SOLVER_RANDMIZE_ORDER asks for it too); stepIndex: the solver's count of steps, its seed.
     static SolveSettings from(const btContactSolverInfo& info, bool permuteOrder, unsigned int stepIndex = 0) {
         SolveSettings s;
-        s.numIterations = info.m_numIterations;
+        s.numIterations = s.maxIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
         s.splitImpulse = info.m_splitImpulse != 0;
         s.warmStart = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;

@@ -3,6 +3,7 @@
 // StepGatherer (BulletGather.h), solved by DeviceSolver, written back by writeBackStep.
 #pragma once
 
+#include "JointRows.h"
 #include "SplitPlan.h"
 #include "btocl_shared.h"
 
@@ -25,28 +26,39 @@ struct StepProblem {
     std::vector<btTransform> worldTransforms;
     std::vector<SplitBody> splitBodies;
 
-    // One constraint per manifold that has points in reach; its rows of each kind contiguous,
-    // laid out in gather order as [normal rows][friction rows][rolling rows].
+    // One constraint per manifold that has points in reach, then one per joint with rows; the
+    // rows of each kind contiguous, laid out in gather order as [normal rows][friction rows]
+    // [rolling rows][joint rows].
     std::vector<btoclConstraint> constraints;
-    std::vector<btPersistentManifold*> manifoldOfConstraint;
+    std::vector<btPersistentManifold*> manifoldOfConstraint;  // null for a joint
     int numNormalRows = 0, numFrictionRows = 0, numRollingRows = 0;
+
+    // The step's joints and their rows, set up on the host as SI sets them up (JointRows.h).
+    JointRowSet joints;
+    int jointRowBase = 0;  // gather index of the first joint row
 
     // One record per contact point; normal row i is point i. kernels/setup.cl sets the rows up
     // from them on the device ...
     std::vector<btoclContactPoint> points;
     std::vector<btManifoldPoint*> manifoldPoints;  // the btManifoldPoint of each point
     btoclSetupParams setupParams{};
-    // ... unless rowsOnDevice is false: then the host set them up (HostRowSetup.h), in gather order.
+    // ... unless rowsOnDevice is false: then the host set them up (HostRowSetup.h). `rows` holds
+    // the rows set up on the host, in gather order from row hostRowBase on: every row then, or
+    // the joint rows alone when the device sets the contact rows up.
     bool rowsOnDevice = true;
     std::vector<btoclRow> rows;
+    int hostRowBase = 0;
 
-    // After the solve: applied impulses of the normal and friction rows (gather order), and the
-    // two friction directions of each point (the host's or the device's choice).
+    // After the solve: applied impulses of every row (gather order), and the two friction
+    // directions of each point (the host's or the device's choice).
     std::vector<float> appliedImpulses;
     std::vector<btoclFloat4> lateralDirs;
 
     int numContactPoints() const { return numNormalRows; }
-    int numRows() const { return numNormalRows + numFrictionRows + numRollingRows; }
+    int numJointRows() const { return int(joints.rows.size()); }
+    int numRows() const { return numNormalRows + numFrictionRows + numRollingRows + numJointRows(); }
+    // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
+    int maxIterations(int numIterations) const { return joints.rows.empty() ? numIterations : joints.maxIterations; }
 };
 
 }  // namespace btocl

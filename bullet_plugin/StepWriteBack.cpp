@@ -1,6 +1,7 @@
 #include "StepWriteBack.h"
 
 #include "BulletConversions.h"
+#include "JointWriteBack.h"
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
@@ -39,6 +40,7 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
 
 void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
     writeBackPoints(p, info);
+    writeBackJoints(p.joints, p.appliedImpulses.data() + p.jointRowBase, info);
     for (size_t i = 1; i < p.original.size(); ++i) {
         btRigidBody* rb = p.original[i];
         const btoclBody& b = p.bodies[i];

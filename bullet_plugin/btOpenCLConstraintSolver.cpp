@@ -96,7 +96,7 @@ struct btOpenCLConstraintSolver::Impl {
     }
 
     void gather(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
-                const btContactSolverInfo& info) {
+                btTypedConstraint** joints, int numJoints, const btContactSolverInfo& info) {
         const auto t0 = Clock::now();
         if (!gathering) {
             gatherer.begin(info);
@@ -105,6 +105,7 @@ struct btOpenCLConstraintSolver::Impl {
         }
         gatherer.addBodies(bodies, numBodies);
         gatherer.addManifolds(manifolds, numManifolds);
+        gatherer.addJoints(joints, numJoints);
         msGatherCalls += msSince(t0);
     }
 
@@ -117,7 +118,8 @@ struct btOpenCLConstraintSolver::Impl {
         try {
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
-            const btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.permuteOrder, stepIndex++);
+            btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.permuteOrder, stepIndex++);
+            settings.maxIterations = p.maxIterations(settings.numIterations);
             s.msGather = msGatherCalls + timer.lap();
 
             device.upload(p);
@@ -186,7 +188,7 @@ struct btOpenCLConstraintSolver::Impl {
         s.numBodies = int(p.original.size()) - 1;
         s.numContactPoints = p.numContactPoints();
         s.numConstraintRows = p.numRows();
-        s.numJointRows = 0;
+        s.numJointRows = p.numJointRows();
     }
 };
 
@@ -204,20 +206,14 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
                                               btPersistentManifold** manifolds, int numManifolds,
                                               btTypedConstraint** constraints, int numConstraints,
                                               const btContactSolverInfo& info, btIDebugDraw*, btDispatcher*) {
-    (void)constraints;
     Impl& impl = *m_impl;
-    if (numConstraints > 0) {
-        impl.abandonStep();
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
-                                  "remove them from the world or use btSequentialImpulseConstraintSolver");
-    }
     if (!(info.m_timeStep > 0) || info.m_numIterations < 0) {
         impl.abandonStep();
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the time step must be positive and the iteration count "
                                   "not negative");
     }
     try {
-        impl.gather(bodies, numBodies, manifolds, numManifolds, info);
+        impl.gather(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info);
     } catch (...) {
         impl.abandonStep();
         throw;

@@ -35,15 +35,15 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
     placed[i] = c;
 }
 
-// Rows set up on the host, in gather order, to their places; their starting impulses to the
-// compact arrays that the solve updates.
-__kernel void placeRows(__global const btoclRow* in, __global const int* rowMap, __global btoclRow* out,
+// Rows set up on the host, gather rows [base, base + n), to their places; their starting
+// impulses to the compact arrays that the solve updates.
+__kernel void placeRows(__global const btoclRow* in, int base, __global const int* rowMap, __global btoclRow* out,
                         __global float* applied, __global float* pushApplied, int n) {
     const int r = get_global_id(0);
     if (r >= n) return;
     btoclRow row = in[r];
     if (row.frictionIndex >= 0) row.frictionIndex = rowMap[row.frictionIndex];
-    const int to = rowMap[r];
+    const int to = rowMap[base + r];
     out[to] = row;
     applied[to] = BTOCL_ROW_APPLIED(row);
     pushApplied[to] = BTOCL_ROW_APPLIED_PUSH(row);

@@ -7,7 +7,6 @@
 
 #include <catch2/catch.hpp>
 
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -35,11 +34,6 @@ struct HandDriven {
         solver.solveGroup(bodies, 1, manifolds.data(), int(manifolds.size()), nullptr, 0, with, nullptr, &w.dispatcher());
     }
 };
-
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 bool finiteState(const btRigidBody* b) {
     const btVector3 p = pos(b), v = b->getLinearVelocity(), w = b->getAngularVelocity();
@@ -114,28 +108,21 @@ TEST_CASE("after an error inside a step, a hand-driven solveGroup still solves a
     CHECK(h.box->getLinearVelocity().y() > -0.05f);
 }
 
-TEST_CASE("a world with a joint gets a btOpenCLSolverError that names joints", "[errors]") {
+TEST_CASE("two boxes joined by a point-to-point joint fall together and stay joined", "[api]") {
     World w(SolverKind::OpenCL);
     w.addGround();
     btRigidBody* a = w.addUnitBox(btVector3(0, 3, 0));
     btRigidBody* b = w.addUnitBox(btVector3(1, 3, 0));
-    btPoint2PointConstraint* joint = w.addConstraint(std::make_unique<btPoint2PointConstraint>(
-        *a, *b, btVector3(btScalar(0.5), 0, 0), btVector3(btScalar(-0.5), 0, 0)));
-    std::string message;
-    try {
-        w.step();
-        FAIL("stepping a world with a btTypedConstraint should throw btOpenCLSolverError");
-    } catch (const btOpenCLSolverError& e) {
-        message = e.what();
-    }
-    INFO("message: " << message);
-    REQUIRE(lower(message).find("joint") != std::string::npos);
-    // The error leaves the world usable: without the joint, stepping works and stays finite.
-    w.dyn().removeConstraint(joint);
-    for (int i = 0; i < 30; ++i) w.step();
+    const btVector3 pivotA(btScalar(0.5), 0, 0), pivotB(btScalar(-0.5), 0, 0);
+    w.addConstraint(std::make_unique<btPoint2PointConstraint>(*a, *b, pivotA, pivotB));
+    for (int i = 0; i < 90; ++i) w.step();
     REQUIRE(finiteState(a));
     REQUIRE(finiteState(b));
-    REQUIRE(pos(a).y() < 3);  // it fell
+    REQUIRE(pos(a).y() < 1);  // they fell and landed
+    REQUIRE(w.openCL()->getLastStats().numJointRows == 3);
+    // The pivots stay together: a few millimetres of joint error, as Bullet's solver leaves.
+    const btVector3 gap = a->getWorldTransform() * pivotA - b->getWorldTransform() * pivotB;
+    REQUIRE(gap.length() < 0.01);
 }
 
 TEST_CASE("getLastStats counts the bodies and contact points of a known scene", "[api]") {
