@@ -58,17 +58,20 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     const int numRows = p.numRows();
     m_placed.reserve(m_rt, size_t(n));
     m_rowBase.reserve(m_rt, size_t(n));
+    m_frictionRowBase.reserve(m_rt, size_t(n));
     m_rowMap.reserve(m_rt, size_t(numRows));
     m_rows.reserve(m_rt, size_t(numRows));
     m_applied.reserve(m_rt, size_t(numRows));
     m_pushApplied.reserve(m_rt, size_t(numRows));
     if (n == 0) return;
-    // Row offsets in solve order: a count per position, then an exclusive scan.
-    setArgs(m_countRows, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), n);
+    // Row offsets in solve order, per region: a count per position, then an exclusive scan.
+    setArgs(m_countRows, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), m_frictionRowBase.buffer(), n);
     m_rt.launch(m_countRows, size_t(n), kLanes, "launching countRowsInSolveOrder");
     m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
-    setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), m_placed.buffer(),
-            m_rowMap.buffer(), n);
+    m_primitives.exclusiveScan(m_frictionRowBase.buffer(), m_frictionRowBase.buffer(), size_t(n));
+    const int frictionRegion = p.numNormalRows + p.numJointRows();
+    setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(),
+            m_frictionRowBase.buffer(), frictionRegion, m_placed.buffer(), m_rowMap.buffer(), n);
     m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
 
     if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'

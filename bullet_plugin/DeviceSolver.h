@@ -65,7 +65,7 @@ private:
     DeviceBuffer<btoclContactPoint> m_points;
     DeviceBuffer<btoclFloat4> m_lateralDirs;
     DeviceBuffer<btoclGroup> m_groups;
-    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control, m_rowBase, m_rowMap;
+    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     std::vector<int> m_controlStart;                            // the control block as uploaded

@@ -1,33 +1,35 @@
 // Lays the constraints and their rows out in solve order (set, group, batch), so that every
-// solve pass streams through memory instead of jumping across it. A constraint's rows stay
-// together, kind after kind: [joint rows][normal rows][friction rows][rolling rows].
+// solve pass streams through memory instead of jumping across it. Rows fall into two regions,
+// one per kind of pass: first every constraint's joint and normal rows, in solve order, then every
+// constraint's friction and rolling rows, in solve order (the normal pass and the friction pass
+// each read one region front to back; interleaved, the friction rows the normal pass skips would
+// still cross the memory bus).
 // Host reference: the layout checks of tests/test_device_solve.cpp (rows read back through the map).
 #include "btocl_shared.h"
 
-inline int rowCount(const btoclConstraint* c) {
-    int n = 0;
-    for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) n += c->numRows[kind];
-    return n;
-}
-
+// Rows of the constraint at solve position i: normalCounts[i] in the first region, frictionCounts[i]
+// in the second.
 __kernel void countRowsInSolveOrder(__global const int* solveOrder, __global const btoclConstraint* constraints,
-                                    __global int* counts, int n) {
+                                    __global int* normalCounts, __global int* frictionCounts, int n) {
     const int i = get_global_id(0);
     if (i >= n) return;
     const btoclConstraint c = constraints[solveOrder[i]];
-    counts[i] = rowCount(&c);
+    normalCounts[i] = c.numRows[BTOCL_ROWS_JOINT] + c.numRows[BTOCL_ROWS_NORMAL];
+    frictionCounts[i] = c.numRows[BTOCL_ROWS_FRICTION] + c.numRows[BTOCL_ROWS_ROLLING];
 }
 
-// Constraint solveOrder[i] goes to position i with its rows from rowBase[i] on; rowMap records
-// the new index of each of its rows (indexed by the row's index in gather order).
+// Constraint solveOrder[i] goes to position i, its rows of the first region from normalBase[i]
+// on, those of the second from frictionRegion + frictionBase[i]; rowMap records the new index of
+// each of its rows (indexed by the row's index in gather order).
 __kernel void placeConstraints(__global const int* solveOrder, __global const btoclConstraint* constraints,
-                               __global const int* rowBase, __global btoclConstraint* placed,
-                               __global int* rowMap, int n) {
+                               __global const int* normalBase, __global const int* frictionBase, int frictionRegion,
+                               __global btoclConstraint* placed, __global int* rowMap, int n) {
     const int i = get_global_id(0);
     if (i >= n) return;
     btoclConstraint c = constraints[solveOrder[i]];
-    int next = rowBase[i];
+    int next = normalBase[i];
     for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) {
+        if (kind == BTOCL_ROWS_FRICTION) next = frictionRegion + frictionBase[i];
         for (int k = 0; k < c.numRows[kind]; ++k) rowMap[c.firstRow[kind] + k] = next + k;
         c.firstRow[kind] = next;
         next += c.numRows[kind];
