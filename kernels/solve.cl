@@ -18,14 +18,13 @@ inline uint sweepSeed(int flags, uint stepSeed, int kind, int iteration) {
 }
 
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
-// this one wrote), the lanes of the work-group sharing a batch; with a seed, the batches, and the
-// constraints of a batch, in that seed's order (any order of a batch's constraints gives the same
-// result: they share no body). Returns this lane's largest squared residual. Every lane must call
+// this one wrote), the lanes of the work-group sharing a batch; with a seed, the batches in that
+// seed's order, and on the serial path (one lane, one batch per group) the group's chunks too. Returns this lane's largest squared residual. Every lane must call
 // it: it holds barriers.
 inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
                         __global const btoclRow* rows, __global float* applied, __global float* pushApplied,
                         __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int applyFactors,
-                        uint seed, int iteration, int numIterations) {
+                        uint seed, int iteration, int numIterations, int wholeStep) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     float maxResidual2 = 0.0f;
@@ -34,11 +33,38 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
         const int k = seed ? btoclPermute(batches, kk) : kk;
         const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
         const int end = batchEnd[g.offset + k];
-        const btoclPermutation within = btoclMakePermutation(end - begin, seed ^ btoclHash((uint)begin));
-        for (int j = begin + lane; j < end; j += lanes) {
-            const int i = seed ? begin + btoclPermute(within, j - begin) : j;
-            maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied, bodies,
-                                                                    deltas, pass, applyFactors, iteration, numIterations));
+        if (lanes == 1 && seed) {  // one work-item walks the run: chunks in the seed's order
+            const int chunk = btoclSweepChunkLength(end - begin, wholeStep);
+            const int numChunks = (end - begin + chunk - 1) / chunk;
+            const btoclPermutation chunks = btoclMakePermutation(numChunks, seed ^ btoclHash((uint)begin));
+            int next = begin + btoclPermute(chunks, 0) * chunk;
+            for (int cc = 0; cc < numChunks; ++cc) {
+                const int first = next;
+#ifdef BTOCL_CPU_PREFETCH
+                // A jump in memory: ask for the next chunk's first constraint while this one is solved.
+                if (cc + 1 < numChunks) {
+                    next = begin + btoclPermute(chunks, cc + 1) * chunk;
+                    __global const btoclConstraint* c = constraints + next;
+                    __global const char* row = (__global const char*)(rows + c->firstRow[pass == BTOCL_PASS_FRICTION ? BTOCL_ROWS_FRICTION : BTOCL_ROWS_NORMAL]);
+                    __builtin_prefetch(c);
+                    __builtin_prefetch(row);
+                    __builtin_prefetch(row + 64);
+                    __builtin_prefetch(deltas + c->bodyA);
+                    __builtin_prefetch(deltas + c->bodyB);
+                }
+#else
+                if (cc + 1 < numChunks) next = begin + btoclPermute(chunks, cc + 1) * chunk;
+#endif
+                for (int i = first; i < min(end, first + chunk); ++i)
+                    maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied,
+                                                                            bodies, deltas, pass, applyFactors,
+                                                                            iteration, numIterations));
+            }
+        } else {  // the lanes share a batch, whose constraints share no body: any order is the same
+            for (int i = begin + lane; i < end; i += lanes)
+                maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied,
+                                                                        bodies, deltas, pass, applyFactors, iteration,
+                                                                        numIterations));
         }
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
@@ -55,7 +81,7 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
     if (control[split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
     const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, applied,
                                           pushApplied, bodies, deltas, pass, flags & BTOCL_FLAG_APPLY_FACTORS, seed,
-                                          iteration, numIterations);
+                                          iteration, numIterations, 0);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
         atomic_max(control + (split ? BTOCL_CONTROL_SPLIT_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
@@ -98,7 +124,8 @@ inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
         maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, applied, pushApplied,
-                                                     bodies, deltas, pass, applyFactors, seed, iteration, numIterations));
+                                                     bodies, deltas, pass, applyFactors, seed, iteration, numIterations,
+                                                     1));
     return maxResidual2;
 }
 

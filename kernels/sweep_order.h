@@ -48,6 +48,17 @@ BTOCL_INLINE int btoclPermute(btoclPermutation p, int j) {
     return (int)x;
 }
 
+// A run of n constraints walked by one work-item goes chunk by chunk in a permuted order, each
+// chunk front to back. A whole step solved in one launch is small enough to stay in cache: one
+// constraint a chunk. The groups of a large step are streamed from memory at every pass: at most
+// this many chunks, so that they still stream (a fully permuted walk of a 12K-box block's groups
+// cost the solve 1.5x the CPU time), while the small groups of a resting stack are still permuted
+// one constraint at a time.
+#define BTOCL_SWEEP_MAX_CHUNKS 32
+BTOCL_INLINE int btoclSweepChunkLength(int n, int wholeStep) {
+    return (wholeStep || n <= BTOCL_SWEEP_MAX_CHUNKS) ? 1 : (n + BTOCL_SWEEP_MAX_CHUNKS - 1) / BTOCL_SWEEP_MAX_CHUNKS;
+}
+
 // The seed of one iteration of one pass kind (0: the velocity iterations, 1: the split-impulse
 // ones) of a step; 0 means "in order" (the seed is never 0 otherwise).
 BTOCL_INLINE unsigned int btoclIterationSeed(unsigned int stepSeed, int kind, int iteration) {

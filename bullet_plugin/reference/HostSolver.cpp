@@ -9,7 +9,7 @@ namespace btocl {
 namespace {
 
 // One pass over every set, group and batch in layout order (with a seed, each group's batches
-// and each batch's constraints in that seed's order, as kernels/solve.cl walks them); returns the
+// and each run's chunks in that seed's order, as kernels/solve.cl walks them); returns the
 // largest squared residual. The iteration and m_numIterations matter to the velocity passes only
 // (btoclSolveConstraint).
 float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& applied,
@@ -22,14 +22,20 @@ float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& a
             const int k = seed ? btoclPermute(batches, kk) : kk;
             const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
-            const btoclPermutation within = btoclMakePermutation(end - begin, seed ^ btoclHash(unsigned(begin)));
-            for (int j = begin; j < end; ++j) {
-                const int i = seed ? begin + btoclPermute(within, j - begin) : j;
-                const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
-                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&c, p.rows.data(), applied.data(),
-                                                                           pushApplied.data(), p.bodies.data(),
-                                                                           p.deltas.data(), pass, applyFactors,
-                                                                           iteration, numIterations));
+            // Chunks in the seed's order, as the serial path walks a run (the wide path's lanes
+            // share a batch in any order: its constraints share no body, so this order serves too).
+            const int chunk = seed ? btoclSweepChunkLength(end - begin, layout.solvedWhole) : std::max(1, end - begin);
+            const int numChunks = (end - begin + chunk - 1) / chunk;
+            const btoclPermutation chunks = btoclMakePermutation(numChunks, seed ^ btoclHash(unsigned(begin)));
+            for (int cc = 0; cc < numChunks; ++cc) {
+                const int first = begin + (seed ? btoclPermute(chunks, cc) : cc) * chunk;
+                for (int i = first; i < std::min(end, first + chunk); ++i) {
+                    const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
+                    maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&c, p.rows.data(), applied.data(),
+                                                                               pushApplied.data(), p.bodies.data(),
+                                                                               p.deltas.data(), pass, applyFactors,
+                                                                               iteration, numIterations));
+                }
             }
         }
     }
