@@ -63,6 +63,7 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_frictionRowBase.reserve(m_rt, size_t(n));
     m_rowMap.reserve(m_rt, size_t(numRows));
     m_rows.reserve(m_rt, size_t(numRows));
+    m_normalOfRow.reserve(m_rt, size_t(numRows));
     m_applied.reserve(m_rt, size_t(numRows));
     m_pushApplied.reserve(m_rt, size_t(numRows));
     if (n == 0) return;
@@ -77,14 +78,17 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
 
     if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'
-        setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase, m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
-                m_pushApplied.buffer(), int(p.rows.size()));
+        const int frictionStart = p.numNormalRows, rollingStart = frictionStart + p.numFrictionRows;
+        const cl_int4 firstOfKind = {{0, frictionStart, rollingStart, rollingStart + p.numRollingRows}};
+        setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase, m_rowMap.buffer(), m_rows.buffer(),
+                m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), int(p.rows.size()), firstOfKind);
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
     m_lateralDirs.reserve(m_rt, 2 * p.points.size());
-    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(), m_applied.buffer(),
-            m_pushApplied.buffer(), m_lateralDirs.buffer(), m_control.buffer(), p.setupParams);
+    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(),
+            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(),
+            m_control.buffer(), p.setupParams);
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
@@ -94,16 +98,17 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const So
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
-        setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_applied.buffer(),
-                m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, cl_uint(seed),
-                iteration, s.numIterations);
+        setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(),
+                m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(),
+                s.flags, cl_uint(seed), iteration, s.numIterations);
         m_rt.launch(k, size_t(count) * size_t(m_lanes), size_t(m_lanes), "launching a solve pass");
     }
 }
 
 void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& s) {
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
-            m_placed.buffer(), m_rows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
+            m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(),
+            m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.residualThreshold,
             s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed), s.maxIterations);
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
@@ -172,19 +177,65 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
 
 std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
     const size_t n = size_t(p.numRows());
-    std::vector<btoclRow> placed = m_rows.read(m_rt, n);
-    const std::vector<int> map = m_rowMap.read(m_rt, n);
+    const std::vector<btoclSolveRow> placed = m_rows.read(m_rt, n);
+    const std::vector<int> map = m_rowMap.read(m_rt, n), normalOf = m_normalOfRow.read(m_rt, n);
     const std::vector<float> applied = m_applied.read(m_rt, n), pushApplied = m_pushApplied.read(m_rt, n);
-    for (size_t r = 0; r < n; ++r) {  // the live impulses, as a host-built row holds them
-        BTOCL_ROW_APPLIED(placed[r]) = applied[r];
-        BTOCL_ROW_APPLIED_PUSH(placed[r]) = pushApplied[r];
-    }
     std::vector<int> unmap(n);
     for (size_t r = 0; r < n; ++r) unmap[size_t(map[r])] = int(r);
+    // Each gather row's kind and bodies: contact rows from their point, joint rows from their joint.
+    const int frictionStart = p.numNormalRows, rollingStart = frictionStart + p.numFrictionRows;
     std::vector<btoclRow> rows(n);
-    for (size_t r = 0; r < n; ++r) {
-        rows[r] = placed[size_t(map[r])];
-        if (rows[r].frictionIndex >= 0) rows[r].frictionIndex = unmap[size_t(rows[r].frictionIndex)];
+    for (size_t g = 0; g < n; ++g) {
+        const size_t at = size_t(map[g]);
+        const btoclSolveRow& s = placed[at];
+        btoclRow& r = rows[g];
+        const int kind = int(g) >= p.jointRowBase && p.numJointRows() > 0 ? BTOCL_ROWS_JOINT
+                         : int(g) >= rollingStart                      ? BTOCL_ROWS_ROLLING
+                         : int(g) >= frictionStart                     ? BTOCL_ROWS_FRICTION
+                                                                       : BTOCL_ROWS_NORMAL;
+        r.frictionIndex = kind == BTOCL_ROWS_FRICTION || kind == BTOCL_ROWS_ROLLING ? unmap[size_t(normalOf[at])] : -1;
+        if (kind == BTOCL_ROWS_JOINT) {
+            for (const StepJoint& j : p.joints.joints)
+                if (int(g) - p.jointRowBase >= j.firstRow && int(g) - p.jointRowBase < j.firstRow + j.numRows) {
+                    r.bodyA = j.bodyA;
+                    r.bodyB = j.bodyB;
+                }
+        } else {
+            const btoclContactPoint& pt = p.points[size_t(kind == BTOCL_ROWS_NORMAL ? int(g) : r.frictionIndex)];
+            r.bodyA = pt.bodyA;
+            r.bodyB = pt.bodyB;
+        }
+        // As SI holds a contact row: no linear Jacobian on a side without a rigid body.
+        const bool rigidA = kind == BTOCL_ROWS_JOINT || BTOCL_BODY_IS_RIGID(p.bodies[size_t(r.bodyA)]) != 0;
+        const bool rigidB = kind == BTOCL_ROWS_JOINT || BTOCL_BODY_IS_RIGID(p.bodies[size_t(r.bodyB)]) != 0;
+        const btoclFloat4 zero{0, 0, 0, 0};
+        const btoclFloat4 normal{s.normal.x, s.normal.y, s.normal.z, 0};
+        const btoclFloat4 negated{-s.normal.x, -s.normal.y, -s.normal.z, 0};
+        r.contactNormal1 = rigidA ? normal : zero;
+        r.contactNormal2 = rigidB ? negated : zero;
+        r.relpos1CrossNormal = {s.relpos1CrossNormal.x, s.relpos1CrossNormal.y, s.relpos1CrossNormal.z, 0};
+        r.relpos2CrossNormal = {s.relpos2CrossNormal.x, s.relpos2CrossNormal.y, s.relpos2CrossNormal.z, 0};
+        r.angularComponentA = {s.angularComponentA.x, s.angularComponentA.y, s.angularComponentA.z, 0};
+        r.angularComponentB = {s.angularComponentB.x, s.angularComponentB.y, s.angularComponentB.z, 0};
+        r.impulses = zero;
+        BTOCL_ROW_RHS(r) = BTOCL_SOLVE_ROW_RHS(s);
+        BTOCL_ROW_CFM(r) = BTOCL_SOLVE_ROW_CFM(s);
+        BTOCL_ROW_JAC_DIAG_INV(r) = BTOCL_SOLVE_ROW_JAC_DIAG_INV(s);
+        BTOCL_ROW_APPLIED(r) = applied[at];
+        BTOCL_ROW_APPLIED_PUSH(r) = pushApplied[at];
+        if (kind == BTOCL_ROWS_JOINT) {
+            BTOCL_ROW_LOWER(r) = BTOCL_SOLVE_ROW_LOWER(s);
+            BTOCL_ROW_UPPER(r) = BTOCL_SOLVE_ROW_UPPER(s);
+        } else if (kind == BTOCL_ROWS_NORMAL) {
+            BTOCL_ROW_RHS_PENETRATION(r) = BTOCL_SOLVE_ROW_RHS_PENETRATION(s);
+            BTOCL_ROW_LOWER(r) = 0;
+            BTOCL_ROW_UPPER(r) = 1e10f;
+            BTOCL_ROW_FRICTION(r) = BTOCL_POINT_FRICTION(p.points[g]);
+        } else {
+            BTOCL_ROW_FRICTION(r) = BTOCL_SOLVE_ROW_FRICTION(s);
+            BTOCL_ROW_LOWER(r) = -BTOCL_ROW_FRICTION(r);
+            BTOCL_ROW_UPPER(r) = BTOCL_ROW_FRICTION(r);
+        }
     }
     return rows;
 }

@@ -41,7 +41,8 @@ public:
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
     int download(StepProblem& p, const SolveSettings& settings);
-    // The rows as they are on the device, in gather order (tests compare them with the host's).
+    // The rows as they are on the device, in gather order, in the full record (tests compare them
+    // with SI's): B's linear Jacobian the negative of A's, zero on a side without a rigid body.
     std::vector<btoclRow> downloadRows(const StepProblem& p) const;
 
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
@@ -61,7 +62,9 @@ private:
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints, m_placed;
-    DeviceBuffer<btoclRow> m_rows, m_hostRows;
+    DeviceBuffer<btoclSolveRow> m_rows;  // in solve order, as the iterations read them
+    DeviceBuffer<btoclRow> m_hostRows;   // rows the host set up, in gather order
+    DeviceBuffer<int> m_normalOfRow;     // friction and rolling rows: their normal row, in solve order
     DeviceBuffer<btoclContactPoint> m_points;
     DeviceBuffer<btoclFloat4> m_lateralDirs;
     DeviceBuffer<btoclGroup> m_groups;

@@ -193,6 +193,12 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
                 throw btOpenCLSolverError("btOpenCLConstraintSolver: joint " + std::to_string(i) +
                                           " of the step has a non-finite row (its frames, limits or bodies)");
             BTOCL_ROW_ITERATIONS(r) = j.numIterations;
+            // The solve keeps one linear Jacobian per row (btoclSolveRow): refuse a joint it would misread.
+            if (!btoclRowFitsSolveRecord(r, BTOCL_BODY_IS_DYNAMIC(A) != 0.0f, BTOCL_BODY_IS_DYNAMIC(B) != 0.0f))
+                throw btOpenCLSolverError("btOpenCLConstraintSolver: joint " + std::to_string(i) + " of the step (type " +
+                                          std::to_string(int(c.getConstraintType())) +
+                                          ") has a row whose linear Jacobians on its two bodies are not opposite; "
+                                          "the solver holds them as one");
             set.rows[size_t(j.firstRow + k)] = r;
         }
 
@@ -204,7 +210,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
         con.firstRow[BTOCL_ROWS_JOINT] = j.firstRow;
         con.numRows[BTOCL_ROWS_JOINT] = j.numRows;
         const btVector3 point = splitPointOf(c, j, con.dynamicA, con.dynamicB, reach);
-        con.position = toFloat4(point);
+        con.position = toFloat4(point, float(j.numIterations));
         if (con.dynamicA) reach.grow(j.bodyA, point);
         if (con.dynamicB) reach.grow(j.bodyB, point);
         j.constraintIndex = int(set.constraints.size());

@@ -6,6 +6,7 @@
 // still cross the memory bus).
 // Host reference: the layout checks of tests/test_device_solve.cpp (rows read back through the map).
 #include "btocl_shared.h"
+#include "row_setup.h"
 
 // Rows of the constraint at solve position i: normalCounts[i] in the first region, frictionCounts[i]
 // in the second.
@@ -37,16 +38,23 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
     placed[i] = c;
 }
 
-// Rows set up on the host, gather rows [base, base + n), to their places; their starting
-// impulses to the compact arrays that the solve updates.
-__kernel void placeRows(__global const btoclRow* in, int base, __global const int* rowMap, __global btoclRow* out,
-                        __global float* applied, __global float* pushApplied, int n) {
+// Rows set up on the host, gather rows [base, base + n), to their places as the iterations read
+// them; their starting impulses to the compact arrays that the solve updates. firstOfKind: the
+// gather index where each kind's rows begin (normal rows at 0, then friction, rolling, joint).
+__kernel void placeRows(__global const btoclRow* in, int base, __global const int* rowMap,
+                        __global btoclSolveRow* out, __global int* normalOfRow, __global float* applied,
+                        __global float* pushApplied, int n, int4 firstOfKind) {
     const int r = get_global_id(0);
     if (r >= n) return;
-    btoclRow row = in[r];
-    if (row.frictionIndex >= 0) row.frictionIndex = rowMap[row.frictionIndex];
-    const int to = rowMap[base + r];
-    out[to] = row;
+    const btoclRow row = in[r];
+    const int g = base + r;
+    const int kind = g >= firstOfKind.w ? BTOCL_ROWS_JOINT
+                     : g >= firstOfKind.z ? BTOCL_ROWS_ROLLING
+                     : g >= firstOfKind.y ? BTOCL_ROWS_FRICTION
+                                          : BTOCL_ROWS_NORMAL;
+    const int to = rowMap[g];
+    out[to] = btoclSolveRowOf(row, kind);
+    if (row.frictionIndex >= 0) normalOfRow[to] = rowMap[row.frictionIndex];
     applied[to] = BTOCL_ROW_APPLIED(row);
     pushApplied[to] = BTOCL_ROW_APPLIED_PUSH(row);
 }

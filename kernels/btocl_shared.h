@@ -108,6 +108,27 @@ typedef struct {
 #define BTOCL_ROW_APPLIED(r) ((r).impulses.x)        // appliedImpulse (host-built rows; the solve
 #define BTOCL_ROW_APPLIED_PUSH(r) ((r).impulses.y)   // keeps live impulses in compact arrays)
 #define BTOCL_ROW_FRICTION(r) ((r).impulses.z)       // friction coefficient of friction rows
+#define BTOCL_ROW_ITERATIONS(r) ((r).flags)          // joint rows: SI's m_overrideNumSolverIterations
+
+// A row as the iterations read it: 80 bytes (the full record's 128 less what the solve never
+// reads). B's linear Jacobian is the negative of A's, as in every contact row and every row of
+// Bullet's joints (JointRows.cpp refuses a joint whose rows break it); the two lanes that depend
+// on the row's kind are named below. Friction and rolling rows find their normal row's impulse
+// through a separate index (DeviceSolver), read only by the friction pass.
+typedef struct {
+    btoclFloat4 normal;              // xyz: A's linear Jacobian; w: rhs
+    btoclFloat4 relpos1CrossNormal;  // xyz: A's angular Jacobian; w: cfm
+    btoclFloat4 relpos2CrossNormal;  // xyz: B's angular Jacobian; w: jacDiagABInv
+    btoclFloat4 angularComponentA;   // xyz; w: lower limit or rhsPenetration, by kind
+    btoclFloat4 angularComponentB;   // xyz; w: upper limit or friction coefficient, by kind
+} btoclSolveRow;
+#define BTOCL_SOLVE_ROW_RHS(r) ((r).normal.w)
+#define BTOCL_SOLVE_ROW_CFM(r) ((r).relpos1CrossNormal.w)
+#define BTOCL_SOLVE_ROW_JAC_DIAG_INV(r) ((r).relpos2CrossNormal.w)
+#define BTOCL_SOLVE_ROW_LOWER(r) ((r).angularComponentA.w)            // joint rows
+#define BTOCL_SOLVE_ROW_UPPER(r) ((r).angularComponentB.w)            // joint rows
+#define BTOCL_SOLVE_ROW_RHS_PENETRATION(r) ((r).angularComponentA.w)  // normal rows (limits 0 and 1e10)
+#define BTOCL_SOLVE_ROW_FRICTION(r) ((r).angularComponentB.w)         // friction and rolling rows
 
 // One btManifoldPoint, as the row setup kernel reads it. Its normal row has the point's index.
 typedef struct {
@@ -147,15 +168,18 @@ typedef struct {
     int numPoints, pad0, pad1, pad2;
 } btoclSetupParams;
 
-// The unit of batching: the rows of one body pair (a contact manifold, later a joint).
+// The unit of batching: the rows of one body pair (a contact manifold or a joint).
 // Its rows of each kind k are contiguous: rows [firstRow[k], firstRow[k] + numRows[k]).
 typedef struct {
-    btoclFloat4 position;  // xyz: a point of the constraint (contact point) for the global split
+    btoclFloat4 position;  // xyz: a point of the constraint for the global split; w: named below
     int bodyA, bodyB;      // body indices; only dynamic ones lock
     int dynamicA, dynamicB;
     int firstRow[BTOCL_NUM_ROW_KINDS];  // by BTOCL_ROWS_*
     int numRows[BTOCL_NUM_ROW_KINDS];
 } btoclConstraint;
+// A joint's velocity iterations: SI's m_overrideNumSolverIterations (its override, else
+// m_numIterations), a whole number held as a float.
+#define BTOCL_CONSTRAINT_ITERATIONS(c) ((c).position.w)
 
 // A constraint group: one cell's constraints, ordered by batch, as a slice of the solve order.
 // Batch k of the group spans solveOrder[k == 0 ? offset : batchEnd[offset + k - 1],
@@ -171,6 +195,7 @@ typedef struct {
 static_assert(sizeof(btoclBody) == 11 * 16, "btoclBody layout");
 static_assert(sizeof(btoclBodyDelta) == 4 * 16, "btoclBodyDelta layout");
 static_assert(sizeof(btoclRow) == 8 * 16, "btoclRow layout");
+static_assert(sizeof(btoclSolveRow) == 5 * 16, "btoclSolveRow layout");
 static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
 static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");

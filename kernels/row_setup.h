@@ -257,6 +257,33 @@ BTOCL_INLINE btoclRow btoclJointRow(btoclRow r, const btoclBody* A, const btoclB
     return out;  // starting impulse 0 (SI does not warm-start joints); the caller sets BTOCL_ROW_ITERATIONS
 }
 
+// Whether a row's linear Jacobians are opposite (B's the negative of A's), as the solve's row
+// record holds them, where they matter: a side of a body that cannot move may be anything.
+BTOCL_INLINE int btoclRowFitsSolveRecord(btoclRow r, int dynamicA, int dynamicB) {
+    const btoclFloat4 n1 = btoclXyz(r.contactNormal1), n2 = btoclXyz(r.contactNormal2);
+    if (n1.x == -n2.x && n1.y == -n2.y && n1.z == -n2.z) return 1;
+    return (!dynamicA && btoclDot3(n2, n2) != 0.0f && btoclDot3(n1, n1) == 0.0f) ||
+           (!dynamicB && btoclDot3(n1, n1) != 0.0f && btoclDot3(n2, n2) == 0.0f);
+}
+
+// The row as the iterations read it (btoclSolveRow) for a row of kind BTOCL_ROWS_*: one linear
+// Jacobian, A's (or, where A has none, the negative of B's), and the lanes that kind needs.
+BTOCL_INLINE btoclSolveRow btoclSolveRowOf(btoclRow r, int kind) {
+    btoclSolveRow s;
+    const btoclFloat4 n1 = btoclXyz(r.contactNormal1);
+    const btoclFloat4 n = btoclDot3(n1, n1) != 0.0f ? n1 : -btoclXyz(r.contactNormal2);
+    s.normal = btoclWithW(n, BTOCL_ROW_RHS(r));
+    s.relpos1CrossNormal = btoclWithW(r.relpos1CrossNormal, BTOCL_ROW_CFM(r));
+    s.relpos2CrossNormal = btoclWithW(r.relpos2CrossNormal, BTOCL_ROW_JAC_DIAG_INV(r));
+    s.angularComponentA = btoclWithW(r.angularComponentA, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_LOWER(r)
+                                                          : kind == BTOCL_ROWS_NORMAL ? BTOCL_ROW_RHS_PENETRATION(r)
+                                                                                      : 0.0f);
+    s.angularComponentB = btoclWithW(r.angularComponentB, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_UPPER(r)
+                                                          : kind == BTOCL_ROWS_NORMAL ? 0.0f
+                                                                                      : BTOCL_ROW_FRICTION(r));
+    return s;
+}
+
 // The friction directions of a point and what their rows take: from the sliding velocity, the
 // plane space of the normal, or the directions cached on the point (SI's convertContact).
 typedef struct {

@@ -17,11 +17,6 @@
 #define BTOCL_FLT_MAX FLT_MAX
 #endif
 
-// Joint rows: the velocity iterations they take part in, SI's m_overrideNumSolverIterations (the
-// joint's override, else m_numIterations). Named here, beside the solve that reads it, until the
-// row record settles (btocl_shared.h).
-#define BTOCL_ROW_ITERATIONS(r) ((r).flags)
-
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once.
 typedef struct {
@@ -68,15 +63,18 @@ BTOCL_INLINE void btoclApplyImpulse(btoclSolveBody* s, btoclFloat4 linear, btocl
 
 // One row, its impulse clamped to [lower, upper]; returns the residual as SI reports it (the
 // impulse change over the row's effective mass). The row is read only; its applied impulse lives
-// in a compact array, so a pass writes 4 bytes per row, not a cache line.
-BTOCL_INLINE float btoclSolveRow(BTOCL_GLOBAL const btoclRow* row, BTOCL_GLOBAL float* appliedImpulse,
+// in a compact array, so a pass writes 4 bytes per row, not a cache line. B's linear Jacobian is
+// the negative of A's (btoclSolveRow): negation is exact, so the sums are SI's bit for bit.
+BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, BTOCL_GLOBAL float* appliedImpulse,
                                  btoclSolveBody* A, btoclSolveBody* B, float lower, float upper, int applyFactors,
                                  int push) {
-    const float jacDiagABInv = BTOCL_ROW_JAC_DIAG_INV(*row);
+    const float jacDiagABInv = BTOCL_SOLVE_ROW_JAC_DIAG_INV(*row);
     const float applied = *appliedImpulse;
-    float deltaImpulse = (push ? BTOCL_ROW_RHS_PENETRATION(*row) : BTOCL_ROW_RHS(*row)) - applied * BTOCL_ROW_CFM(*row);
-    const float deltaVel1Dotn = btoclDot3(row->contactNormal1, A->linear) + btoclDot3(row->relpos1CrossNormal, A->angular);
-    const float deltaVel2Dotn = btoclDot3(row->contactNormal2, B->linear) + btoclDot3(row->relpos2CrossNormal, B->angular);
+    float deltaImpulse =
+        (push ? BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) : BTOCL_SOLVE_ROW_RHS(*row)) - applied * BTOCL_SOLVE_ROW_CFM(*row);
+    const btoclFloat4 n = row->normal;
+    const float deltaVel1Dotn = btoclDot3(n, A->linear) + btoclDot3(row->relpos1CrossNormal, A->angular);
+    const float deltaVel2Dotn = btoclDot3(-n, B->linear) + btoclDot3(row->relpos2CrossNormal, B->angular);
     deltaImpulse -= deltaVel1Dotn * jacDiagABInv;
     deltaImpulse -= deltaVel2Dotn * jacDiagABInv;
     const float sum = applied + deltaImpulse;
@@ -89,24 +87,27 @@ BTOCL_INLINE float btoclSolveRow(BTOCL_GLOBAL const btoclRow* row, BTOCL_GLOBAL 
         newApplied = upper;
     }
     *appliedImpulse = newApplied;
-    btoclApplyImpulse(A, row->contactNormal1 * A->invMass, row->angularComponentA, deltaImpulse, applyFactors);
-    btoclApplyImpulse(B, row->contactNormal2 * B->invMass, row->angularComponentB, deltaImpulse, applyFactors);
+    btoclApplyImpulse(A, n * A->invMass, row->angularComponentA, deltaImpulse, applyFactors);
+    btoclApplyImpulse(B, -n * B->invMass, row->angularComponentB, deltaImpulse, applyFactors);
     return deltaImpulse * (1.0f / jacDiagABInv);
 }
 
-// Friction and rolling rows: the limit follows the normal row's impulse of this iteration, and a
-// rolling row's limit is capped at its own coefficient (SI's solveSingleIteration).
+// Friction and rolling rows: the limit follows the normal row's impulse of this iteration
+// (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
+// solveSingleIteration).
 BTOCL_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
-                                          BTOCL_GLOBAL const btoclRow* rows, BTOCL_GLOBAL float* applied,
-                                          btoclSolveBody* A, btoclSolveBody* B, int applyFactors) {
+                                          BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
+                                          BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
+                                          int applyFactors) {
     float maxResidual2 = 0.0f;
     for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
-        BTOCL_GLOBAL const btoclRow* row = rows + r;
-        const float total = applied[row->frictionIndex];
+        BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
+        const float total = applied[normalOfRow[r]];
         if (!(total > 0.0f)) continue;
-        float limit = BTOCL_ROW_FRICTION(*row) * total;
-        if (kind == BTOCL_ROWS_ROLLING && limit > BTOCL_ROW_FRICTION(*row)) limit = BTOCL_ROW_FRICTION(*row);
-        const float residual = btoclSolveRow(row, applied + r, A, B, -limit, limit, applyFactors, 0);
+        const float friction = BTOCL_SOLVE_ROW_FRICTION(*row);
+        float limit = friction * total;
+        if (kind == BTOCL_ROWS_ROLLING && limit > friction) limit = friction;
+        const float residual = btoclSolveRowImpulse(row, applied + r, A, B, -limit, limit, applyFactors, 0);
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
     return maxResidual2;
@@ -114,17 +115,17 @@ BTOCL_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c,
 
 // Joint rows, each within its own limits (motors and joint limits live there), while the joint
 // still takes part: SI solves a joint's rows while iteration < its override count.
-BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclRow* rows,
+BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
                                        BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
                                        int applyFactors, int iteration) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
     const int end = first + c->numRows[BTOCL_ROWS_JOINT];
-    if (first == end || iteration >= BTOCL_ROW_ITERATIONS(rows[first])) return 0.0f;  // one count per joint
+    if (first == end || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
     for (int r = first; r < end; ++r) {
-        BTOCL_GLOBAL const btoclRow* row = rows + r;
-        const float residual =
-            btoclSolveRow(row, applied + r, A, B, BTOCL_ROW_LOWER(*row), BTOCL_ROW_UPPER(*row), applyFactors, 0);
+        BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
+        const float residual = btoclSolveRowImpulse(row, applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
+                                             BTOCL_SOLVE_ROW_UPPER(*row), applyFactors, 0);
         maxResidual2 = fmax(maxResidual2, residual * residual);
     }
     return maxResidual2;
@@ -132,13 +133,14 @@ BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BT
 
 // The rows of one constraint for one pass (BTOCL_PASS_*); returns the largest squared residual.
 // iteration: the velocity iteration, from 0. A step runs max(numIterations, every joint's
-// BTOCL_ROW_ITERATIONS) of them (SI's maxIterations); contact rows take part while iteration <
-// numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows come first,
-// as in SI's iteration (a constraint holds either kind today: a joint or a contact manifold).
-BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclRow* rows,
-                                        BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
-                                        BTOCL_GLOBAL const btoclBody* bodies, BTOCL_GLOBAL btoclBodyDelta* deltas,
-                                        int pass, int applyFactors, int iteration, int numIterations) {
+// BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
+// iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
+// come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
+BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
+                                        BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
+                                        BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
+                                        BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int applyFactors, int iteration,
+                                        int numIterations) {
     const int push = pass == BTOCL_PASS_PENETRATION;
     btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);
     btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push);
@@ -148,8 +150,9 @@ BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, B
     const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
-            maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, applied, &A, &B, applyFactors);
-            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, applied, &A, &B, applyFactors));
+            maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, normalOfRow, applied, &A, &B, applyFactors);
+            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, normalOfRow, applied,
+                                                                     &A, &B, applyFactors));
         }
     } else {
         // Joints are neither warm-started nor part of the split-impulse iterations (SI's neither).
@@ -157,19 +160,19 @@ BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, B
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int end = contacts ? first + c->numRows[BTOCL_ROWS_NORMAL] : first;
         for (int r = first; r < end; ++r) {
-            BTOCL_GLOBAL const btoclRow* row = rows + r;
+            BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
             float residual = 0.0f;
             if (pass == BTOCL_PASS_WARMSTART) {
                 // SI applies each normal row's starting impulse to both bodies as it sets the row up.
                 const float start = applied[r];
-                btoclApplyImpulse(&A, row->contactNormal1 * A.invMass, row->angularComponentA, start, 1);
-                btoclApplyImpulse(&B, row->contactNormal2 * B.invMass, row->angularComponentB, start, 1);
+                btoclApplyImpulse(&A, row->normal * A.invMass, row->angularComponentA, start, 1);
+                btoclApplyImpulse(&B, -row->normal * B.invMass, row->angularComponentB, start, 1);
                 continue;
             } else if (pass == BTOCL_PASS_PENETRATION) {
-                if (BTOCL_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
-                residual = btoclSolveRow(row, pushApplied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 1);
+                if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
+                residual = btoclSolveRowImpulse(row, pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, applyFactors, 1);
             } else {
-                residual = btoclSolveRow(row, applied + r, &A, &B, BTOCL_ROW_LOWER(*row), BTOCL_FLT_MAX, applyFactors, 0);
+                residual = btoclSolveRowImpulse(row, applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, applyFactors, 0);
             }
             maxResidual2 = fmax(maxResidual2, residual * residual);
         }

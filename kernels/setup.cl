@@ -4,10 +4,12 @@
 #include "btocl_shared.h"
 #include "row_setup.h"
 
-// Row `index` of the solve-order layout, and its starting impulses in the compact arrays.
-inline void storeRow(__global btoclRow* rows, __global float* applied, __global float* pushApplied, int index,
-                     btoclRow row) {
-    rows[index] = row;
+// Row `index` of the solve-order layout as the iterations read it, its starting impulses in the
+// compact arrays, and for friction and rolling rows the index of their normal row.
+inline void storeRow(__global btoclSolveRow* rows, __global int* normalOfRow, __global float* applied,
+                     __global float* pushApplied, int index, btoclRow row, int kind, int normalRow) {
+    rows[index] = btoclSolveRowOf(row, kind);
+    if (kind != BTOCL_ROWS_NORMAL) normalOfRow[index] = normalRow;
     applied[index] = BTOCL_ROW_APPLIED(row);
     pushApplied[index] = 0.0f;
 }
@@ -15,7 +17,8 @@ inline void storeRow(__global btoclRow* rows, __global float* applied, __global 
 // rowMap: where each row (by its index in gather order) lives in the solve-order layout.
 // lateralDirs: two per point, its friction directions (written back to Bullet).
 __kernel void setupContactRows(__global const btoclContactPoint* points, __global const btoclBody* bodies,
-                               __global const int* rowMap, __global btoclRow* rows, __global float* applied,
+                               __global const int* rowMap, __global btoclSolveRow* rows,
+                               __global int* normalOfRow, __global float* applied,
                                __global float* pushApplied, __global float4* lateralDirs, __global int* control,
                                btoclSetupParams prm) {
     const int i = get_global_id(0);
@@ -27,7 +30,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
 
     const int normalRow = rowMap[i];
     const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
-    storeRow(rows, applied, pushApplied, normalRow, normal);
+    storeRow(rows, normalOfRow, applied, pushApplied, normalRow, normal, BTOCL_ROWS_NORMAL, normalRow);
     // Most steps have no point this deep: the host then launches no split-impulse pass.
     if (BTOCL_ROW_RHS_PENETRATION(normal) != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PENETRATION, 1);
 
@@ -35,20 +38,25 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         float4 axis0, axis1;
         btoclPlaneSpace(pt.normalOnB, &axis0, &axis1);
         const int first = pt.firstRollingRow;
-        storeRow(rows, applied, pushApplied, rowMap[first],
-                 btoclTorsionalRow(pt.normalOnB, BTOCL_POINT_SPINNING_FRICTION(pt), &pt, &A, &B, &f, normalRow));
-        storeRow(rows, applied, pushApplied, rowMap[first + 1],
-                 btoclTorsionalRow(btoclNormalize3(axis0), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow));
-        storeRow(rows, applied, pushApplied, rowMap[first + 2],
-                 btoclTorsionalRow(btoclNormalize3(axis1), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow));
+        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first],
+                 btoclTorsionalRow(pt.normalOnB, BTOCL_POINT_SPINNING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
+                 BTOCL_ROWS_ROLLING, normalRow);
+        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first + 1],
+                 btoclTorsionalRow(btoclNormalize3(axis0), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
+                 BTOCL_ROWS_ROLLING, normalRow);
+        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first + 2],
+                 btoclTorsionalRow(btoclNormalize3(axis1), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
+                 BTOCL_ROWS_ROLLING, normalRow);
     }
 
     const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
     lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
     lateralDirs[2 * i + 1] = ff.dir2;
-    storeRow(rows, applied, pushApplied, rowMap[pt.firstFrictionRow],
-             btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, normalRow));
+    storeRow(rows, normalOfRow, applied, pushApplied, rowMap[pt.firstFrictionRow],
+             btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
+             normalRow);
     if (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS)
-        storeRow(rows, applied, pushApplied, rowMap[pt.firstFrictionRow + 1],
-                 btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, normalRow));
+        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[pt.firstFrictionRow + 1],
+                 btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
+                 normalRow);
 }

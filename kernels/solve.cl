@@ -22,7 +22,7 @@ inline uint sweepSeed(int flags, uint stepSeed, int kind, int iteration) {
 // seed's order, and on the serial path (one lane, one batch per group) the group's chunks too. Returns this lane's largest squared residual. Every lane must call
 // it: it holds barriers.
 inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
-                        __global const btoclRow* rows, __global float* applied, __global float* pushApplied,
+                        __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
                         __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int applyFactors,
                         uint seed, int iteration, int numIterations, int wholeStep) {
     const int lane = get_local_id(0);
@@ -56,13 +56,13 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
                 if (cc + 1 < numChunks) next = begin + btoclPermute(chunks, cc + 1) * chunk;
 #endif
                 for (int i = first; i < min(end, first + chunk); ++i)
-                    maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied,
+                    maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
                                                                             bodies, deltas, pass, applyFactors,
                                                                             iteration, numIterations));
             }
         } else {  // the lanes share a batch, whose constraints share no body: any order is the same
             for (int i = begin + lane; i < end; i += lanes)
-                maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, applied, pushApplied,
+                maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
                                                                         bodies, deltas, pass, applyFactors, iteration,
                                                                         numIterations));
         }
@@ -73,13 +73,13 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
 
 // One set, one pass: work-group g solves group groups[groupBase + g].
 inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,
-                     __global const btoclConstraint* constraints, __global const btoclRow* rows,
+                     __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
                      __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                      __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags, uint seed,
                      int iteration, int numIterations) {
     const int split = pass == BTOCL_PASS_PENETRATION;
     if (control[split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
-    const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, applied,
+    const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow, applied,
                                           pushApplied, bodies, deltas, pass, flags & BTOCL_FLAG_APPLY_FACTORS, seed,
                                           iteration, numIterations, 0);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
@@ -92,11 +92,11 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
 // larger override count go on; kernels/row_solve.h).
 #define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                          \
     __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,           \
-                       __global const btoclConstraint* constraints, __global const btoclRow* rows,             \
+                       __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,             \
                        __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,  \
                        __global btoclBodyDelta* deltas, __global int* control, int flags, uint seed,           \
                        int iteration, int numIterations) {                                                      \
-        solveSet(groups, groupBase, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas, control,  \
+        solveSet(groups, groupBase, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, control,  \
                  PASS, flags, seed, iteration, numIterations);                                                  \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
@@ -117,13 +117,13 @@ __kernel void endIteration(__global int* control, float threshold, int split) {
 
 // Every group of one pass, in order (one work-group); returns this lane's largest squared residual.
 inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                            __global const btoclConstraint* constraints, __global const btoclRow* rows,
+                            __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
                             __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                             __global btoclBodyDelta* deltas, int pass, int applyFactors, uint seed, int iteration,
                             int numIterations) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
-        maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, applied, pushApplied,
+        maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
                                                      bodies, deltas, pass, applyFactors, seed, iteration, numIterations,
                                                      1));
     return maxResidual2;
@@ -146,7 +146,7 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
 // on the device by the residual threshold when one is set. Leaves the velocity iterations run in
 // control[BTOCL_CONTROL_ITERATIONS].
 __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                             __global const btoclConstraint* constraints, __global const btoclRow* rows,
+                             __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
                              __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                              __global btoclBodyDelta* deltas, __global int* control, int flags, int numIterations,
                              float threshold, int warmStart, int splitImpulse, uint stepSeed, int maxIterations) {
@@ -156,11 +156,11 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
     const int applyFactors = flags & BTOCL_FLAG_APPLY_FACTORS;
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
     if (warmStart)
-        solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas,
+        solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas,
                        BTOCL_PASS_WARMSTART, applyFactors, 0u, 0, numIterations);
     if (splitImpulse && control[BTOCL_CONTROL_HAS_PENETRATION])
         for (int it = 0; it < numIterations; ++it) {
-            const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied,
+            const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
                                            bodies, deltas, BTOCL_PASS_PENETRATION, applyFactors,
                                            sweepSeed(flags, stepSeed, 1, it), it, numIterations);
             if (track && iterationConverged(&groupResidual, r, threshold)) break;
@@ -168,9 +168,9 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
     int iterations = 0;
     for (int it = 0; it < maxIterations; ++it) {
         const uint seed = sweepSeed(flags, stepSeed, 0, it);
-        float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies, deltas,
+        float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas,
                                  BTOCL_PASS_NORMAL, applyFactors, seed, it, numIterations);
-        r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, applied, pushApplied, bodies,
+        r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,
                                    deltas, BTOCL_PASS_FRICTION, applyFactors, seed, it, numIterations));
         ++iterations;
         if (track && iterationConverged(&groupResidual, r, threshold)) break;

@@ -1,5 +1,6 @@
 #include "HostSolver.h"
 
+#include "row_setup.h"
 #include "row_solve.h"
 #include "sweep_order.h"
 
@@ -12,7 +13,27 @@ namespace {
 // and each run's chunks in that seed's order, as kernels/solve.cl walks them); returns the
 // largest squared residual. The iteration and m_numIterations matter to the velocity passes only
 // (btoclSolveConstraint).
-float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& applied,
+// The rows as the iterations read them (btoclSolveRow), in gather order, with each friction and
+// rolling row's normal row.
+struct SolveRows {
+    std::vector<btoclSolveRow> rows;
+    std::vector<int> normalOfRow;
+};
+
+SolveRows solveRowsOf(const StepProblem& p) {
+    SolveRows s;
+    s.rows.resize(p.rows.size());
+    s.normalOfRow.assign(p.rows.size(), -1);
+    for (const btoclConstraint& c : p.constraints)
+        for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind)
+            for (int r = c.firstRow[kind]; r < c.firstRow[kind] + c.numRows[kind]; ++r) {
+                s.rows[size_t(r)] = btoclSolveRowOf(p.rows[size_t(r)], kind);
+                s.normalOfRow[size_t(r)] = p.rows[size_t(r)].frictionIndex;
+            }
+    return s;
+}
+
+float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout, std::vector<float>& applied,
                 std::vector<float>& pushApplied, int pass, int applyFactors, unsigned int seed, int iteration,
                 int numIterations) {
     float maxResidual2 = 0;
@@ -31,10 +52,11 @@ float solvePass(StepProblem& p, const BatchLayout& layout, std::vector<float>& a
                 const int first = begin + (seed ? btoclPermute(chunks, cc) : cc) * chunk;
                 for (int i = first; i < std::min(end, first + chunk); ++i) {
                     const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
-                    maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&c, p.rows.data(), applied.data(),
-                                                                               pushApplied.data(), p.bodies.data(),
-                                                                               p.deltas.data(), pass, applyFactors,
-                                                                               iteration, numIterations));
+                    maxResidual2 = std::max(maxResidual2,
+                                            btoclSolveConstraint(&c, rows.rows.data(), rows.normalOfRow.data(),
+                                                                 applied.data(), pushApplied.data(), p.bodies.data(),
+                                                                 p.deltas.data(), pass, applyFactors, iteration,
+                                                                 numIterations));
                 }
             }
         }
@@ -49,7 +71,7 @@ int iterationsWithJoints(const StepProblem& p, int numIterations, int& numJointR
     for (const btoclConstraint& c : p.constraints) {
         if (c.numRows[BTOCL_ROWS_JOINT] == 0) continue;
         numJointRows += c.numRows[BTOCL_ROWS_JOINT];
-        iterations = std::max(iterations, BTOCL_ROW_ITERATIONS(p.rows[size_t(c.firstRow[BTOCL_ROWS_JOINT])]));
+        iterations = std::max(iterations, int(BTOCL_CONSTRAINT_ITERATIONS(c)));
     }
     return iterations;
 }
@@ -57,6 +79,7 @@ int iterationsWithJoints(const StepProblem& p, int numIterations, int& numJointR
 }  // namespace
 
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings) {
+    const SolveRows rows = solveRowsOf(p);
     std::vector<float> applied(p.rows.size()), pushApplied(p.rows.size());
     for (size_t r = 0; r < p.rows.size(); ++r) {
         applied[r] = BTOCL_ROW_APPLIED(p.rows[r]);
@@ -70,7 +93,7 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
         const int kind = which == BTOCL_PASS_PENETRATION ? 1 : 0;
         const unsigned int seed =
             permute && which != BTOCL_PASS_WARMSTART ? btoclIterationSeed(settings.stepSeed, kind, iteration) : 0u;
-        return solvePass(p, layout, applied, pushApplied, which, applyFactors, seed, iteration,
+        return solvePass(p, rows, layout, applied, pushApplied, which, applyFactors, seed, iteration,
                          settings.numIterations);
     };
     int iterations = 0, numJointRows = 0;
