@@ -92,6 +92,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.points.clear();
     p.manifoldPoints.clear();
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
+    p.maySplitPenetration = false;
     m_numFriction = m_numRolling = 0;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
@@ -221,6 +222,10 @@ void StepGatherer::packManifold(btPersistentManifold* manifold) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
         if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
         checkPoint(cp);
+        // As btoclNormalRow decides (a share needs a penetration, and one past the threshold).
+        const btScalar penetration = cp.getDistance() + m_info.m_linearSlop;
+        if (m_info.m_splitImpulse && penetration < 0 && !(penetration > m_info.m_splitImpulsePenetrationThreshold))
+            p.maySplitPenetration = true;
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
         pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());

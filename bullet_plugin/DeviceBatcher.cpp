@@ -4,7 +4,6 @@
 #include "btOpenCLConstraintSolver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 #include <string>
 
@@ -70,16 +69,6 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
     return m_batchPrograms.emplace(wg, std::move(p)).first->second;
 }
 
-void DeviceBatcher::enqueue(cl::Kernel& kernel, size_t items, size_t local, std::vector<cl::Event>& events,
-                            const char* what) {
-    // Sizes that change from step to step need a local size: PoCL compiles a kernel variant for
-    // every local size it picks itself, which for a varying global size is a new compile
-    // (~0.1 s) at every new count.
-    cl::Event event;
-    m_rt.launch(kernel, items, local, what, &event);
-    events.push_back(event);
-}
-
 void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
                           const std::vector<SplitBody>& bodies, const SplitParams& params,
                           const LayoutOptions& options) {
@@ -88,29 +77,30 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
-    const auto start = std::chrono::steady_clock::now();
     m_options = options;
     m_n = n;
     m_setGroupStart.fill(0);
-    m_splitEvents.clear();
-    m_batchEvents.clear();
     m_stats = DeviceBatchStats{};
     m_statsReady = false;
+    m_groupsHost.clear();
     if (n == 0) return;
+    m_rt.beginPhase(DevicePhase::Split);
     for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(m_rt, size_t(n));
     m_groups.reserve(m_rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
     if (options.oneGroup)
         layOutOneGroup(n);
     else
         split(constraints, n, bodies, params);
-    m_stats.msSplit = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     m_stats.numConstraints = n;
     if (!options.localBatches) return;  // the split (or the one group) wrote one run per group
+    m_rt.beginPhase(DevicePhase::Batch);
     BatchProgram& batch = batchProgram(params.workGroupSize);
     setArgs(batch.kernel, constraints.buffer(), m_sorted.buffer(), m_groups.buffer(), params.batchIterations,
             m_solveOrder.buffer(), m_batchEnd.buffer());
-    enqueue(batch.kernel, size_t(numGroups()) * size_t(params.workGroupSize), size_t(params.workGroupSize),
-            m_batchEvents, "enqueueing batchGroups");
+    m_rt.launch(batch.kernel, size_t(numGroups()) * size_t(params.workGroupSize), size_t(params.workGroupSize),
+                "enqueueing batchGroups");
+    m_groupsHost.resize(size_t(numGroups()));
+    m_groups.enqueueRead(m_rt, m_groupsHost.data(), m_groupsHost.size());
 }
 
 // Every constraint in group 0 of set 0, in gather order.
@@ -142,33 +132,32 @@ void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int 
 
     const int chunk = (n + kBoundsChunks - 1) / kBoundsChunks;
     const cl::Buffer& cb = constraints.buffer();
-    std::vector<cl::Event>& ev = m_splitEvents;
 
     setArgs(m_splitBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
-    enqueue(m_splitBounds, kBoundsChunks, 0, ev, "enqueueing splitBounds");
+    m_rt.launch(m_splitBounds, kBoundsChunks, 0, "enqueueing splitBounds");
     setArgs(m_splitGridSetup, m_partMin.buffer(), m_partMax.buffer(), kBoundsChunks, plan.baseCellSize, m_grid.buffer());
-    enqueue(m_splitGridSetup, 1, 0, ev, "enqueueing splitGridSetup");
+    m_rt.launch(m_splitGridSetup, 1, 0, "enqueueing splitGridSetup");
     setArgs(m_splitKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
             m_sorted.buffer());
-    enqueue(m_splitKeys, size_t(n), kLanes, ev, "enqueueing splitKeys");
+    m_rt.launch(m_splitKeys, size_t(n), kLanes, "enqueueing splitKeys");
 
     // Stable sort by key (kernels/primitives.cl); keys < 2^16 by construction, so no key check.
     m_prims.sortByKeySmallRange(m_keys.buffer(), m_sorted.buffer(), size_t(n), BTOCL_SPLIT_NUM_KEYS, false);
 
     // Groups: one per non-empty key, numbered by a scan over the key bins.
     setArgs(m_splitClearBins, m_binStart.buffer(), m_binEnd.buffer());
-    enqueue(m_splitClearBins, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitClearBins");
+    m_rt.launch(m_splitClearBins, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitClearBins");
     setArgs(m_splitMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
-    enqueue(m_splitMarkBins, size_t(n), kLanes, ev, "enqueueing splitMarkBins");
+    m_rt.launch(m_splitMarkBins, size_t(n), kLanes, "enqueueing splitMarkBins");
     setArgs(m_splitBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
-    enqueue(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitBinFlags");
+    m_rt.launch(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
     setArgs(m_splitWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_groups.buffer(), m_options.localBatches ? 0 : 1, m_batchEnd.buffer());
-    enqueue(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, ev, "enqueueing splitWriteGroups");
+    m_rt.launch(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitWriteGroups");
     setArgs(m_splitWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_summary.buffer());
-    enqueue(m_splitWriteSummary, 1, 0, ev, "enqueueing splitWriteSummary");
+    m_rt.launch(m_splitWriteSummary, 1, 0, "enqueueing splitWriteSummary");
 
     // The one read-back: the launches over groups need the number of groups.
     int summary[kSummaryInts];
@@ -181,15 +170,14 @@ void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int 
 
 const DeviceBatchStats& DeviceBatcher::stats() const {
     if (m_statsReady) return m_stats;
-    m_rt.finish("batching constraints on the device");
-    const std::vector<btoclGroup> groups = m_groups.read(m_rt, size_t(numGroups()));
-    long long sum = 0;
-    for (const btoclGroup& g : groups) {
+    // Without local batches every group is one run.
+    long long sum = m_groupsHost.empty() ? numGroups() : 0;
+    m_stats.numBatchesMax = numGroups() > 0 ? 1 : 0;
+    for (const btoclGroup& g : m_groupsHost) {
         m_stats.numBatchesMax = std::max(m_stats.numBatchesMax, g.numBatches);
         sum += g.numBatches;
     }
-    m_stats.numBatchesMean = groups.empty() ? 0.0 : double(sum) / double(groups.size());
-    for (const cl::Event& e : m_batchEvents) m_stats.msBatch += eventMs(e);
+    m_stats.numBatchesMean = numGroups() == 0 ? 0.0 : double(sum) / double(numGroups());
     m_statsReady = true;
     return m_stats;
 }

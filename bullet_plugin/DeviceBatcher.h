@@ -33,8 +33,6 @@ struct DeviceBatchStats {
     double numBatchesMean = 0;      // over all groups, overflow included
     int numOverflowConstraints = 0;
     float cellSize = 0;
-    double msSplit = 0;  // host wall time from build() to the split's read-back (it waits for the device)
-    double msBatch = 0;  // device time of the batch kernel (OpenCL event profiling)
 };
 
 class DeviceBatcher {
@@ -45,8 +43,10 @@ public:
 
     // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
     // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
-    // edge), needed to size the batch launch. bodies: one entry per body index the constraints use.
-    // Throws btOpenCLSolverError on bad parameters or a device error.
+    // edge), needed to size the launches over groups (a one-group layout has none). The split's
+    // commands are timed as DevicePhase::Split, the batch kernel's as DevicePhase::Batch.
+    // bodies: one entry per body index the constraints use. Throws btOpenCLSolverError on bad
+    // parameters or a device error.
     void build(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params, const LayoutOptions& options = {});
 
@@ -57,7 +57,8 @@ public:
     const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const { return m_setGroupStart; }
     int numGroups() const { return m_setGroupStart[BTOCL_NUM_SETS + 1]; }
 
-    // Waits for the device on first call after a build (reads the groups back for the batch counts).
+    // Valid once the queue has finished the build's commands (the batch counts are read back
+    // without a wait of their own).
     const DeviceBatchStats& stats() const;
 
     // Host copy of the layout, for tests and validation (blocking).
@@ -76,7 +77,6 @@ private:
     void layOutOneGroup(int n);
     void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params);
-    void enqueue(cl::Kernel& kernel, size_t items, size_t local, std::vector<cl::Event>& events, const char* what);
 
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;
@@ -94,12 +94,12 @@ private:
     DeviceBuffer<int> m_solveOrder, m_batchEnd;
     DeviceBuffer<btoclGroup> m_groups;
     std::vector<cl_uchar> m_overflowHost;  // lives until its upload is done
+    std::vector<btoclGroup> m_groupsHost;  // the batch counts, read back with the step's last wait
     std::vector<int> m_identityHost;       // a one-group layout's order, likewise
     btoclGroup m_oneGroupHost{};
 
     int m_n = 0;
     std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};
-    std::vector<cl::Event> m_splitEvents, m_batchEvents;
     mutable DeviceBatchStats m_stats;
     mutable bool m_statsReady = true;
 };

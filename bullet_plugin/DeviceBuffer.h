@@ -39,36 +39,38 @@ public:
         m_rt = &rt;
     }
 
-    // Copies n elements from host memory (blocking unless an event is asked for; then `data`
-    // must live until the event completes).
-    void write(const OclRuntime& rt, const T* data, size_t n, cl::Event* event = nullptr, size_t offset = 0) {
-        reserve(rt, offset + n);
+    // Copies from host memory and waits for the copy.
+    void write(const OclRuntime& rt, const T* data, size_t n) {
+        reserve(rt, n);
         if (n == 0) return;
-        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, event ? CL_FALSE : CL_TRUE, offset * sizeof(T),
-                                              n * sizeof(T), data, nullptr, event),
+        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_TRUE, 0, n * sizeof(T), data, nullptr, rt.phaseEvent()),
                 "writing a device buffer");
     }
-    void write(const OclRuntime& rt, const std::vector<T>& data, cl::Event* event = nullptr) {
-        write(rt, data.data(), data.size(), event);
-    }
+    void write(const OclRuntime& rt, const std::vector<T>& data) { write(rt, data.data(), data.size()); }
 
     // Enqueues the copy without waiting: `data` must stay unchanged until the queue is finished.
     void enqueueWrite(const OclRuntime& rt, const T* data, size_t n) {
         reserve(rt, n);
         if (n == 0) return;
-        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data), "writing a device buffer");
+        checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data, nullptr, rt.phaseEvent()),
+                "writing a device buffer");
     }
     void enqueueWrite(const OclRuntime& rt, const std::vector<T>& data) { enqueueWrite(rt, data.data(), data.size()); }
-    // Enqueues the copy back without waiting: `data` is valid once the queue is finished.
-    void enqueueRead(const OclRuntime& rt, T* data, size_t n) const {
+
+    // Enqueues the copy back of elements [offset, offset + n) without waiting: `data` is valid
+    // once the queue is finished.
+    void enqueueRead(const OclRuntime& rt, T* data, size_t n, size_t offset = 0) const {
         if (n == 0) return;
-        checkCl(rt.queue().enqueueReadBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data), "reading a device buffer");
+        checkCl(rt.queue().enqueueReadBuffer(m_buffer, CL_FALSE, offset * sizeof(T), n * sizeof(T), data, nullptr,
+                                             rt.phaseEvent()),
+                "reading a device buffer");
     }
 
-    void read(const OclRuntime& rt, T* data, size_t n, cl::Event* event = nullptr, size_t offset = 0) const {
+    // Copies elements [offset, offset + n) back and waits for them.
+    void read(const OclRuntime& rt, T* data, size_t n, size_t offset = 0) const {
         if (n == 0) return;
-        checkCl(rt.queue().enqueueReadBuffer(m_buffer, event ? CL_FALSE : CL_TRUE, offset * sizeof(T),
-                                             n * sizeof(T), data, nullptr, event),
+        checkCl(rt.queue().enqueueReadBuffer(m_buffer, CL_TRUE, offset * sizeof(T), n * sizeof(T), data, nullptr,
+                                             rt.phaseEvent()),
                 "reading a device buffer");
     }
     std::vector<T> read(const OclRuntime& rt, size_t n) const {
@@ -80,7 +82,8 @@ public:
     void fill(const OclRuntime& rt, const T& value, size_t n) {
         reserve(rt, n);
         if (n == 0) return;
-        checkCl(rt.queue().enqueueFillBuffer(m_buffer, value, 0, n * sizeof(T)), "filling a device buffer");
+        checkCl(rt.queue().enqueueFillBuffer(m_buffer, value, 0, n * sizeof(T), nullptr, rt.phaseEvent()),
+                "filling a device buffer");
     }
 
     const cl::Buffer& buffer() const { return m_buffer; }

@@ -131,7 +131,7 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, split);
         m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
     };
-    if (s.splitImpulse && anyPenetrationShare())
+    if (s.splitImpulse && p.maySplitPenetration)
         for (int it = 0; it < s.numIterations; ++it) {
             launchPass(layout, BTOCL_PASS_PENETRATION, s, seed(1, it), it);
             endIteration(1);
@@ -142,14 +142,6 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         if (it < s.numIterations) launchPass(layout, BTOCL_PASS_FRICTION, s, seed(0, it), it);
         endIteration(0);
     }
-}
-
-bool DeviceSolver::anyPenetrationShare() const {
-    // Most steps have no point deep enough for a split-impulse share; then the split-impulse
-    // iterations would change nothing, and are not launched. One int, read before the iterations.
-    int flag = 0;
-    m_control.read(m_rt, &flag, 1, nullptr, BTOCL_CONTROL_HAS_PENETRATION);
-    return flag != 0;
 }
 
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {

@@ -51,7 +51,6 @@ private:
     void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, unsigned int seed,
                     int iteration);
     void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
-    bool anyPenetrationShare() const;
 
     const OclRuntime& m_rt;
     int m_lanes;

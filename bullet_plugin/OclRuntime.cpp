@@ -175,9 +175,26 @@ cl::Kernel OclRuntime::makeKernel(const cl::Program& program, const char* name) 
     return k;
 }
 
+void OclRuntime::clearPhases() const {
+    for (std::vector<cl::Event>& events : m_phaseEvents) events.clear();
+}
+
+cl::Event* OclRuntime::phaseEvent() const {
+    if (m_phase < 0) return nullptr;
+    m_phaseEvents[m_phase].emplace_back();
+    return &m_phaseEvents[m_phase].back();
+}
+
+double OclRuntime::phaseMs(DevicePhase phase) const {
+    double ms = 0;
+    for (const cl::Event& e : m_phaseEvents[int(phase)]) ms += eventMs(e);
+    return ms;
+}
+
 void OclRuntime::launch(const cl::Kernel& kernel, size_t items, size_t local, const char* what,
                         cl::Event* event) const {
     if (items == 0) return;
+    if (!event) event = phaseEvent();
     const size_t global = local ? (items + local - 1) / local * local : items;
     checkCl(m_queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global),
                                          local ? cl::NDRange(local) : cl::NullRange, nullptr, event),

@@ -29,6 +29,9 @@ std::string describeDevices(const std::vector<DeviceEntry>& devices);
 // Throws btOpenCLSolverError listing the devices there are when nothing matches.
 DeviceEntry selectDevice(const std::string& spec);
 
+// The device's parts of a step, timed by OpenCL profiling events (OclRuntime::beginPhase).
+enum class DevicePhase { Upload, Split, Batch, Setup, Solve, Download, Count };
+
 // Throws btOpenCLSolverError naming `what` and the error code when err != CL_SUCCESS.
 void checkCl(cl_int err, const char* what);
 const char* clErrorName(cl_int err);
@@ -61,6 +64,17 @@ public:
     void launch(const cl::Kernel& kernel, size_t items, size_t local, const char* what,
                 cl::Event* event = nullptr) const;
 
+    // Phase timing: from beginPhase(ph) on, every launch and copy made through this runtime (and
+    // DeviceBuffer) records its event under ph, until the next beginPhase or endPhases. phaseMs
+    // sums the device time of a phase's events: call it once the queue has finished them.
+    // clearPhases forgets them (at the start of a step). Without profiling, nothing is recorded.
+    void beginPhase(DevicePhase phase) const { m_phase = m_profiling ? int(phase) : -1; }
+    void endPhases() const { m_phase = -1; }
+    void clearPhases() const;
+    double phaseMs(DevicePhase phase) const;
+    // The event slot for the next command of the current phase, or null when none is recorded.
+    cl::Event* phaseEvent() const;
+
     // Bytes held by the DeviceBuffers made on this runtime (what a step keeps on the device;
     // Boost.Compute's own scratch is not counted).
     size_t bufferBytes() const { return m_bufferBytes; }
@@ -78,6 +92,8 @@ private:
     bool m_profiling = false;
     size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0;
     mutable size_t m_bufferBytes = 0;
+    mutable int m_phase = -1;
+    mutable std::vector<cl::Event> m_phaseEvents[int(DevicePhase::Count)];
 };
 
 // Milliseconds between an event's start and end (0 without profiling).

@@ -122,9 +122,11 @@ struct btOpenCLConstraintSolver::Impl {
             settings.maxIterations = p.maxIterations(settings.numIterations);
             s.msGather = msGatherCalls + timer.lap();
 
+            // The device's part: enqueued without waits but for the split's group counts, timed by
+            // profiling events per phase, waited for once at the read-back.
+            runtime.clearPhases();
+            runtime.beginPhase(btocl::DevicePhase::Upload);
             device.upload(p);
-            runtime.finish("uploading the step");
-            s.msUpload = timer.lap();
 
             // Global split and local batches on the device, from the constraints just uploaded.
             btocl::SplitParams params;
@@ -141,34 +143,23 @@ struct btOpenCLConstraintSolver::Impl {
             view.solveOrder = &batcher.solveOrder().buffer();
             view.batchEnd = &batcher.batchEnd().buffer();
             view.setGroupStart = batcher.setGroupStart();
-            const btocl::DeviceBatchStats& batchStats = batcher.stats();
-            s.msSplit = batchStats.msSplit;
-            s.msBatch = batchStats.msBatch;
-            s.numCellGroups = batchStats.numCellGroups;
-            s.numGroups = batcher.numGroups();
-            s.solvedWholeStep = layout.oneGroup && !p.constraints.empty();
-            s.numBatchesMax = batchStats.numBatchesMax;
-            s.numBatchesMean = batchStats.numBatchesMean;
-            s.numOverflowConstraints = batchStats.numOverflowConstraints;
             if (config.validate) {
+                runtime.endPhases();  // the validation's read-back is not a part of the step
                 const std::string failure = btocl::validateBatchLayout(batcher.download(), p.constraints);
                 if (!failure.empty()) {
                     s.validationFailures += 1;
                     s.lastValidationMessage = failure;
                 }
             }
-
-            timer.lap();  // validation is not a stage of the step
+            runtime.beginPhase(btocl::DevicePhase::Setup);
             device.arrange(p, view);
-            runtime.finish("setting up the rows");
-            s.msSetup = timer.lap();
-
+            runtime.beginPhase(btocl::DevicePhase::Solve);
             device.iterate(p, view, settings);
-            runtime.finish("solving");
-            s.msSolve = timer.lap();
-
-            s.numIterationsRun = device.download(p, settings);
-            s.msDownload = timer.lap();
+            runtime.beginPhase(btocl::DevicePhase::Download);
+            s.numIterationsRun = device.download(p, settings);  // the one wait
+            runtime.endPhases();
+            s.msDevice = timer.lap();
+            fillDeviceStats(s, p, layout.oneGroup);
 
             btocl::writeBackStep(p, info);
             s.msWriteback = timer.lap();
@@ -182,6 +173,23 @@ struct btOpenCLConstraintSolver::Impl {
         gathering = false;
         s.msTotal = msGatherCalls + timer.total();
         stats = s;
+    }
+
+    // What the device did: its phases' times (profiling events) and the layout's counts.
+    void fillDeviceStats(btOpenCLSolverStats& s, const btocl::StepProblem& p, bool wholeStep) const {
+        s.msUpload = runtime.phaseMs(btocl::DevicePhase::Upload);
+        s.msSplit = runtime.phaseMs(btocl::DevicePhase::Split);
+        s.msBatch = runtime.phaseMs(btocl::DevicePhase::Batch);
+        s.msSetup = runtime.phaseMs(btocl::DevicePhase::Setup);
+        s.msSolve = runtime.phaseMs(btocl::DevicePhase::Solve);
+        s.msDownload = runtime.phaseMs(btocl::DevicePhase::Download);
+        const btocl::DeviceBatchStats& batchStats = batcher.stats();
+        s.numCellGroups = batchStats.numCellGroups;
+        s.numGroups = batcher.numGroups();
+        s.solvedWholeStep = wholeStep && !p.constraints.empty();
+        s.numBatchesMax = batchStats.numBatchesMax;
+        s.numBatchesMean = batchStats.numBatchesMean;
+        s.numOverflowConstraints = batchStats.numOverflowConstraints;
     }
 
     static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p) {

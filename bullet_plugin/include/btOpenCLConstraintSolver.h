@@ -44,22 +44,24 @@ struct btOpenCLSolverConfig {
     bool permuteOrder = true;
 };
 
-// What the last step did. Phase times are host wall-clock milliseconds of each stage, waits for
-// the device included, except msBatch (see below).
+// What the last step did. Times in milliseconds: the host's stages by the host's clock, the
+// device's phases as the device's time of their commands (OpenCL profiling events; 0 where the
+// device does not profile). The device's phases are enqueued without waits and may overlap the
+// host's work and each other, so they need not add up to msDevice.
 struct btOpenCLSolverStats {
     int numBodies = 0, numContactPoints = 0, numJointRows = 0, numConstraintRows = 0;
     int numCellGroups = 0, numBatchesMax = 0, numOverflowConstraints = 0, validationFailures = 0;
     double numBatchesMean = 0;
-    double msGather = 0;     // reading Bullet's bodies and manifolds into the step's records
-    double msUpload = 0;     // copying them to the device
-    double msSplit = 0;      // the global split, up to the read-back of its group counts
-    double msBatch = 0;      // the local batching: the batch kernel's device time (OpenCL event
-                             // profiling; 0 where the device does not profile)
-    double msSetup = 0;      // laying constraints out in solve order and setting their rows up
-    double msSolve = 0;      // the warm start and every iteration
-    double msDownload = 0;   // copying velocities and impulses back
-    double msWriteback = 0;  // writing them to Bullet's bodies and manifold points
-    double msTotal = 0;      // from the first solveGroup to the end of allSolved, gathering included
+    double msGather = 0;     // host: reading Bullet's bodies, manifolds and joints into the step's records
+    double msDevice = 0;     // host: from the first enqueue to the results read back (waits included)
+    double msUpload = 0;     // device: copying the records over
+    double msSplit = 0;      // device: the global split
+    double msBatch = 0;      // device: the local batching (wide path)
+    double msSetup = 0;      // device: laying constraints and rows out in solve order, setting rows up
+    double msSolve = 0;      // device: the warm start and every iteration
+    double msDownload = 0;   // device: copying velocities and impulses back
+    double msWriteback = 0;  // host: writing them to Bullet's bodies, manifold points and joints
+    double msTotal = 0;      // host: from the first solveGroup to the end of allSolved, gathering included
     int numIterationsRun = 0;
     // A small step is solved whole by one work-group in one launch, without the global split:
     // then it has one group (numCellGroups 0). Otherwise the cell groups plus the overflow group.
