@@ -41,7 +41,9 @@ if(BTOCL_BUILD_TESTS)
   add_test(NAME bench_png
            COMMAND btocl_bench --scene pyramid --smoke --frame 10
                    --png "${CMAKE_CURRENT_BINARY_DIR}/bench_smoke_pyramid.png")
-  list(APPEND BTOCL_BENCH_TESTS bench_harness_identical_worlds bench_png)
+  # The third world, Bullet's solver with its order randomized, stepped beside the two.
+  add_test(NAME bench_si_randomized COMMAND btocl_bench --scene wall --smoke --validate --with-si-randomized)
+  list(APPEND BTOCL_BENCH_TESTS bench_harness_identical_worlds bench_png bench_si_randomized)
   set_tests_properties(${BTOCL_BENCH_TESTS} PROPERTIES ENVIRONMENT "BT_OPENCL_DEVICE=cpu")
 
   # Bad input gets a clear message (checked) rather than a crash.

@@ -3,11 +3,67 @@
 # results table (Markdown) from the JSON summaries. The JSON files stay in build/bench/.
 # Each scene first runs a few steps of our solver alone: PoCL compiles kernel variants the first
 # time it meets a launch shape and caches them, and that one-time cost is not a step's cost.
+#
+#   bash scripts/benchmarks.sh                      # speed: the README's results table
+#   bash scripts/benchmarks.sh --quality [RUN...]   # quality of resting scenes, 600 steps each
+#
+# --quality runs scenes that come to rest (a pyramid with a base of 20, the default wall, a
+# small dense block of 216 boxes face to face, a pile of 1,000 dropped boxes) for 600 steps (10 s)
+# and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours (permuted order,
+# the default) and ours in a fixed order: the largest drift (from the start for scenes that start
+# at rest, else from step 450), the resting kinetic energy (mean of the last 150 steps), the
+# deepest penetration and whether the stacks stand. RUN, "scene size" each, replaces the scenes.
+# The JSON files stay in build/quality/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+mode=speed
+if [[ "${1:-}" == "--quality" ]]; then
+  mode=quality
+  shift
+fi
 bash scripts/setup.sh
 bash scripts/build.sh >/dev/null
 bench=build/demos/btocl_bench
+
+if [[ "$mode" == quality ]]; then
+  mkdir -p build/quality
+  runs=("$@")
+  if [[ ${#runs[@]} -eq 0 ]]; then
+    runs=("pyramid 20" "wall 10" "block-grid 216" "pile 1000")
+  fi
+  names=()
+  for run in "${runs[@]}"; do
+    read -r scene size <<<"$run"
+    echo "== $scene (size $size, 600 steps)" >&2
+    # SI, SI randomized and ours (permuted) side by side; then ours in the fixed order alone.
+    "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order permuted \
+      --json "build/quality/$scene-$size.json" >/dev/null
+    "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order fixed \
+      --json "build/quality/$scene-$size-fixed.json" >/dev/null
+    names+=("$scene-$size")
+  done
+  python3 - build/quality "${names[@]}" <<'PY'
+import json, os, sys
+folder, names = sys.argv[1], sys.argv[2:]
+print("| scene | bodies | solver | max drift | resting kinetic energy | max penetration | standing |")
+print("|---|---|---|---|---|---|---|")
+def yn(v):
+    return "-" if v is None else ("yes" if v else "no")
+for name in names:
+    both = json.load(open(os.path.join(folder, name + ".json")))
+    fixed = json.load(open(os.path.join(folder, name + "-fixed.json")))
+    sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]),
+             ("ours, permuted", both["ours"]), ("ours, fixed order", fixed["ours"])]
+    label = "%s %d" % (both["scene"], both["size"])
+    for solver, side in sides:
+        q = side["quality"]
+        print("| %s | %d | %s | %.4f | %.2e | %.4f | %s |" % (
+            label, both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"], q["maxPenetration"],
+            yn(q["stacksStanding"])))
+PY
+  exit 0
+fi
+
 mkdir -p build/bench
 runs=(
   "pyramid 20 300"

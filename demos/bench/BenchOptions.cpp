@@ -58,6 +58,8 @@ void addBenchOptions(CLI::App& app, BenchOptions& o, std::string& solver) {
         ->type_name("ORDER")
         ->check(CLI::IsMember({"permuted", "fixed"}))
         ->capture_default_str();
+    app.add_flag("--with-si-randomized", o.withSiRandomized,
+                 "a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER (JSON side siRandomized)");
     app.add_flag("--stand-in", o.standIn, "use a second btSequentialImpulseConstraintSolver in place of ours");
     app.add_flag("--validate", o.validate, "check split and batch invariants every step (exit 4 if broken)");
     app.add_flag("--allow-ocl-error", o.allowOclError,

@@ -4,6 +4,9 @@
 #include "Quality.h"
 
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
+
+#include <cstdint>
 
 namespace btbench {
 
@@ -35,7 +38,12 @@ Json quality(const SolverSide& side, const RunFacts& facts) {
     q["finalJointError"] = side.lastJointError >= 0 ? Json(double(side.lastJointError)) : Json();
     q["maxDrift"] = double(side.maxDrift);
     q["driftFromStep"] = facts.driftFromStep;
-    q["kineticEnergy"] = side.scene ? Json(kineticEnergy(*side.scene)) : Json();
+    q["kineticEnergy"] = side.scene ? Json(kineticEnergy(*side.scene)) : Json();  // the last state only
+    // The mean over the states of the run's last quarter: the last state alone is one sample of
+    // a jitter that swings by orders of magnitude from step to step in a resting stack.
+    q["restingKineticEnergy"] =
+        side.restingEnergySamples > 0 ? Json(side.restingEnergySum / side.restingEnergySamples) : Json();
+    q["restingFromStep"] = facts.restingFromStep;
     q["topCentreHeight"] = side.scene ? Json(double(maxCentreHeight(*side.scene))) : Json();
     // Only scenes whose boxes start at rest have stacks that should stand.
     q["stacksStanding"] = facts.scene->startsAtRest && side.stepsDone > 0 ? Json(side.maxDrift < kStandingDrift)
@@ -46,9 +54,14 @@ Json quality(const SolverSide& side, const RunFacts& facts) {
 Json sideJson(const SolverSide& side, const RunFacts& facts) {
     Json s = Json::object();
     s["solver"] = side.kind == SolverKind::OpenCL ? "btOpenCLConstraintSolver" : "btSequentialImpulseConstraintSolver";
+    // The Gauss-Seidel order: Bullet's fixed or randomized (SOLVER_RANDMIZE_ORDER), ours permuted or fixed.
+    s["order"] = side.ocl ? (side.ocl->getConfig().permuteOrder ? "permuted" : "fixed")
+                          : (side.kind == SolverKind::BulletSIRandomized ? "randomized" : "fixed");
     s["error"] = side.error.empty() ? Json() : Json(side.error);
     s["stepsDone"] = side.stepsDone;
     s["msPerStep"] = timing(side.msPerStep);
+    // Median over the steps with contacts of the step's time per 1,000 contact points.
+    s["msPer1000ContactPoints"] = quantile(side.msPer1000ContactPoints, 0.5);
     s["contactPoints"] = side.lastCounts.contactPoints;
     s["contactPointsMax"] = side.maxContactPoints;
     s["manifolds"] = side.lastCounts.manifolds;
@@ -62,6 +75,11 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
         s["batchesMean"] = st.numBatchesMean;
         s["overflowConstraints"] = st.numOverflowConstraints;
         s["validationFailures"] = side.validationFailures;
+        // Device memory held by our buffers: the most over the run, and per contact point after
+        // the step with the most contact points.
+        s["deviceBytes"] = int64_t(side.maxDeviceBytes);
+        s["deviceBytesPerContactPoint"] =
+            side.maxContactPoints > 0 ? Json(side.deviceBytesAtMostContactPoints / side.maxContactPoints) : Json();
         if (!st.lastValidationMessage.empty()) s["validationMessage"] = st.lastValidationMessage;
         // getLastStats() of every step: median and 90th percentile of each phase.
         Json medians = Json::object(), p90s = Json::object();
@@ -84,7 +102,7 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
 }  // namespace
 
 std::string summariseRun(const BenchOptions& options, const RunFacts& facts, const SolverSide* si,
-                         const SolverSide* ours) {
+                         const SolverSide* ours, const SolverSide* siRandomized) {
     Json j = Json::object();
     j["scene"] = facts.scene->name;
     j["description"] = facts.scene->description;
@@ -100,6 +118,7 @@ std::string summariseRun(const BenchOptions& options, const RunFacts& facts, con
     if (options.standIn) j["standIn"] = "ours is a second btSequentialImpulseConstraintSolver (--stand-in)";
     if (si) j["si"] = sideJson(*si, facts);
     if (ours) j["ours"] = sideJson(*ours, facts);
+    if (siRandomized) j["siRandomized"] = sideJson(*siRandomized, facts);
     if (si && ours && !si->msPerStep.empty() && !ours->msPerStep.empty())
         j["ratioOursOverSi"] = quantile(ours->msPerStep, 0.5) / quantile(si->msPerStep, 0.5);
     else
@@ -118,6 +137,10 @@ std::string summariseRun(const BenchOptions& options, const RunFacts& facts, con
         j["png"] = png;
     }
     j["wallSeconds"] = facts.wallSeconds;
+    // The process's peak resident memory (getrusage's ru_maxrss): every world of the run shares
+    // the process, so run one solver alone (--solver si or ocl) to attribute it.
+    rusage usage{};
+    j["peakRssBytes"] = getrusage(RUSAGE_SELF, &usage) == 0 ? Json(int64_t(usage.ru_maxrss) * 1024) : Json();
     // NaN (a quantile of no samples) comes out as null. Bytes that are not UTF-8 (a driver's
     // error message) are replaced rather than thrown on.
     return j.dump(2, ' ', false, Json::error_handler_t::replace);

@@ -17,7 +17,7 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
         if (kind == SolverKind::OpenCL) {
             side->ocl = std::make_unique<btOpenCLConstraintSolver>(config);
             inner = side->ocl.get();
-        } else {
+        } else {  // BulletSI, BulletSIRandomized
             side->si = std::make_unique<CountingSISolver>();
             inner = side->si.get();
         }
@@ -28,6 +28,7 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
     side->timed = std::make_unique<TimedSolver>(*inner);
     side->scene = std::make_unique<SceneWorld>(side->timed.get());
     side->scene->world().getSolverInfo().m_numIterations = iterations;
+    if (kind == SolverKind::BulletSIRandomized) side->scene->world().getSolverInfo().m_solverMode |= SOLVER_RANDMIZE_ORDER;
     sceneInfo.build(*side->scene, size);
     side->alive = true;
     return side;
@@ -47,7 +48,9 @@ void stepSolverSide(SolverSide& side, double dt) {
     side.stepsDone += 1;
     const SolverStepCounts& c = side.timed->step();
     side.msPerStep.push_back(c.ms);
+    if (c.contactPoints > 0) side.msPer1000ContactPoints.push_back(c.ms * 1000.0 / c.contactPoints);
     side.lastCounts = c;
+    const bool mostContactPoints = c.contactPoints > side.maxContactPoints;
     side.maxContactPoints = std::max(side.maxContactPoints, c.contactPoints);
     if (side.si) {
         side.lastRows = side.si->rowsThisStep();
@@ -58,6 +61,8 @@ void stepSolverSide(SolverSide& side, double dt) {
         side.lastStats = s;
         side.lastRows = s.numConstraintRows;
         side.lastJointRows = s.numJointRows;
+        side.maxDeviceBytes = std::max(side.maxDeviceBytes, s.deviceBytes);
+        if (mostContactPoints) side.deviceBytesAtMostContactPoints = s.deviceBytes;
         if (s.validationFailures > 0 && side.validationFailures == 0)
             side.firstValidationFailure = "step " + std::to_string(side.stepsDone) + ": " + s.lastValidationMessage;
         side.validationFailures += s.validationFailures;
@@ -74,7 +79,7 @@ void stepSolverSide(SolverSide& side, double dt) {
     }
 }
 
-void trackQuality(SolverSide& side, bool setDriftReference) {
+void trackQuality(SolverSide& side, bool setDriftReference, bool inRestingWindow) {
     if (!side.scene) return;
     side.lastMinDistance = minContactDistance(*side.scene);
     side.minDistance = std::min(side.minDistance, side.lastMinDistance);
@@ -83,6 +88,10 @@ void trackQuality(SolverSide& side, bool setDriftReference) {
     if (setDriftReference) side.driftReference = dynamicPositions(*side.scene);
     if (!side.driftReference.empty())
         side.maxDrift = std::max(side.maxDrift, maxDistance(dynamicPositions(*side.scene), side.driftReference));
+    if (inRestingWindow) {
+        side.restingEnergySum += kineticEnergy(*side.scene);
+        side.restingEnergySamples += 1;
+    }
 }
 
 }  // namespace btbench

@@ -15,7 +15,9 @@
 
 namespace btbench {
 
-enum class SolverKind { BulletSI, OpenCL };
+// BulletSIRandomized: Bullet's solver with SOLVER_RANDMIZE_ORDER, which shuffles the order of its
+// rows every iteration (from its own seed, so the same from run to run).
+enum class SolverKind { BulletSI, BulletSIRandomized, OpenCL };
 
 // Phases of ours, read from getLastStats() after every step.
 struct PhaseSamples {
@@ -23,7 +25,7 @@ struct PhaseSamples {
 };
 
 struct SolverSide {
-    std::string name;  // "si" or "ours"
+    std::string name;  // "si", "siRandomized" or "ours"
     SolverKind kind = SolverKind::BulletSI;
     std::unique_ptr<CountingSISolver> si;
     std::unique_ptr<btOpenCLConstraintSolver> ocl;
@@ -35,10 +37,13 @@ struct SolverSide {
     int stepsDone = 0;
 
     std::vector<double> msPerStep;  // solver wall time of each step
+    std::vector<double> msPer1000ContactPoints;  // the same per 1,000 contact points (steps with contacts)
     PhaseSamples phases;
     SolverStepCounts lastCounts;
     int lastRows = 0, lastJointRows = 0, maxContactPoints = 0;
     btOpenCLSolverStats lastStats;
+    double maxDeviceBytes = 0;                   // ours: largest deviceBytes of any step
+    double deviceBytesAtMostContactPoints = 0;   // ours: deviceBytes after the step with the most contact points
     int validationFailures = 0;         // over all steps (with --validate)
     std::string firstValidationFailure;
 
@@ -49,6 +54,8 @@ struct SolverSide {
     btScalar maxDrift = 0;
     btScalar maxJointError = -1;            // largest joint pivot gap seen (-1: no such joint)
     btScalar lastJointError = -1;           // the same, in the last state tracked
+    double restingEnergySum = 0;            // kinetic energy summed over the states of the resting window
+    int restingEnergySamples = 0;
 };
 
 // Builds the solver and the scene's world around it. A solver that cannot be made (no OpenCL
@@ -59,7 +66,8 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
 // One world step of dt; records the timings and counts. Catches what the solver throws.
 void stepSolverSide(SolverSide& side, double dt);
 
-// Quality bookkeeping after a step: penetration, joint error, and drift from the reference once set.
-void trackQuality(SolverSide& side, bool setDriftReference);
+// Quality bookkeeping after a step: penetration, joint error, drift from the reference once set,
+// and the kinetic energy of the states in the resting window (the run's last quarter).
+void trackQuality(SolverSide& side, bool setDriftReference, bool inRestingWindow);
 
 }  // namespace btbench

@@ -1,6 +1,8 @@
 // btocl_bench: steps one scene in two identical worlds, one with Bullet's
 // btSequentialImpulseConstraintSolver and one with btOpenCLConstraintSolver, at the same
-// iterations, and prints a JSON summary (timings, counts, quality) on stdout.
+// iterations, and prints a JSON summary (timings, counts, quality) on stdout. With
+// --with-si-randomized a third world is stepped beside them by Bullet's solver with its order
+// randomized (SOLVER_RANDMIZE_ORDER), for its quality.
 #include "BenchOptions.h"
 #include "BenchSummary.h"
 #include "PngFile.h"
@@ -9,6 +11,7 @@
 #include "Scenes.h"
 #include "SolverSide.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -62,6 +65,8 @@ int run(const BenchOptions& options) {
     }
     // Scenes that start at rest should not move at all; the others are judged once settled.
     facts.driftFromStep = scene->startsAtRest ? 0 : facts.steps * 3 / 4;
+    // Resting kinetic energy: the mean over the states of the last quarter of the run.
+    facts.restingFromStep = facts.steps * 3 / 4;
 
     btOpenCLSolverConfig config;
     config.validate = options.validate;
@@ -69,13 +74,17 @@ int run(const BenchOptions& options) {
                        : options.solvePath == "wide" ? btOpenCLSolvePath::Wide
                                                      : btOpenCLSolvePath::Auto;
     config.permuteOrder = options.order == "permuted";
-    std::unique_ptr<SolverSide> si, ours;
+    std::unique_ptr<SolverSide> si, ours, siRandomized;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)
         ours = makeSolverSide("ours", options.standIn ? SolverKind::BulletSI : SolverKind::OpenCL, *scene, facts.size,
                               options.iterations, config);
+    if (options.withSiRandomized)
+        siRandomized = makeSolverSide("siRandomized", SolverKind::BulletSIRandomized, *scene, facts.size,
+                                      options.iterations, config);
     if (ours && ours->ocl) facts.deviceName = ours->ocl->getDeviceName();
-    const std::vector<SolverSide*> sides = {si.get(), ours.get()};
+    const std::vector<SolverSide*> sides = {si.get(), ours.get(), siRandomized.get()};
+    const std::vector<SolverSide*> drawn = {si.get(), ours.get()};  // the picture has SI and ours only
 
     const Clock::time_point start = Clock::now();
     double lastReport = 0;
@@ -84,24 +93,24 @@ int run(const BenchOptions& options) {
             for (SolverSide* s : sides)
                 if (s) stepSolverSide(*s, options.dt);
         for (SolverSide* s : sides)
-            if (s && s->alive) trackQuality(*s, step == facts.driftFromStep);
+            if (s && s->alive) trackQuality(*s, step == facts.driftFromStep, step >= facts.restingFromStep);
         if (si && ours && si->alive && ours->alive) {
             facts.divergenceFinal = maxDistance(dynamicPositions(*si->scene), dynamicPositions(*ours->scene));
             facts.divergenceMax = std::max(facts.divergenceMax, facts.divergenceFinal);
             facts.compared = step > 0;
         }
-        if (!options.pngFile.empty() && step == frame) drawFrame(sides, options.pngFile, frame, facts);
+        if (!options.pngFile.empty() && step == frame) drawFrame(drawn, options.pngFile, frame, facts);
         const double elapsed = secondsSince(start);
         if (step > 0 && elapsed > 2 && elapsed - lastReport > 2) {
             reportProgress(step, facts.steps, si.get(), ours.get(), elapsed);
             lastReport = elapsed;
         }
-        const bool anyAlive = (si && si->alive) || (ours && ours->alive);
+        const bool anyAlive = std::any_of(sides.begin(), sides.end(), [](const SolverSide* s) { return s && s->alive; });
         if (!anyAlive) break;
     }
     facts.wallSeconds = secondsSince(start);
 
-    const std::string summary = summariseRun(options, facts, si.get(), ours.get());
+    const std::string summary = summariseRun(options, facts, si.get(), ours.get(), siRandomized.get());
     std::cout << summary << std::endl;
     if (!options.jsonFile.empty()) {
         std::ofstream out(options.jsonFile);
@@ -115,6 +124,10 @@ int run(const BenchOptions& options) {
     int status = 0;
     if (si && !si->error.empty()) {
         std::fprintf(stderr, "btocl_bench: Bullet's solver side failed: %s\n", si->error.c_str());
+        status = 1;
+    }
+    if (siRandomized && !siRandomized->error.empty()) {
+        std::fprintf(stderr, "btocl_bench: Bullet's randomized-order side failed: %s\n", siRandomized->error.c_str());
         status = 1;
     }
     if (ours && !ours->error.empty()) {

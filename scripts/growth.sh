@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# How cost grows with the scene: block and columns at 3K, 12K and 48K boxes, each solver in a
+# process of its own (btocl_bench --solver si, then --solver ocl), so that the process's peak
+# resident memory is that solver's world and solver alone. Prints a Markdown table: contact
+# points, solver ms per step (median) and per 1,000 contact points (median over the steps), peak
+# RSS of each process, and our device bytes per contact point. The JSON files stay in
+# build/growth/. About 10 minutes on 2 cores.
+#
+#   bash scripts/growth.sh              # every run below
+#   bash scripts/growth.sh block        # only the runs of one scene
+#
+# Steps: block stands, so a few steps measure it (the 48K block holds 1.2M contact points and
+# costs Bullet's solver about 2 s a step here, plus as much again for collision detection);
+# columns change through the run (standing columns, then the collapse, then a pile), so every
+# size runs the same 150 steps (2.5 s: the columns fall; the 48K run's collision detection alone
+# takes about 0.7 s a step here) and is compared per contact point.
+# On a CPU device (PoCL) the device's buffers are host memory: ours' RSS includes deviceBytes.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+only="${1:-}"
+bash scripts/setup.sh
+bash scripts/build.sh >/dev/null
+bench=build/demos/btocl_bench
+mkdir -p build/growth
+runs=(
+  "block 3000 30"
+  "block 12000 20"
+  "block 48000 6"
+  "columns 3000 150"
+  "columns 12000 150"
+  "columns 48000 150"
+)
+names=()
+for run in "${runs[@]}"; do
+  read -r scene size steps <<<"$run"
+  if [[ -n "$only" && "$scene" != "$only" ]]; then continue; fi
+  # PoCL compiles a kernel variant the first time it meets a launch shape (then caches it).
+  if [[ "$size" -le 3000 ]]; then
+    "$bench" --scene "$scene" --size "$size" --steps 3 --solver ocl >/dev/null 2>&1 || true
+  fi
+  for solver in si ocl; do
+    echo "== $scene (size $size, $steps steps), --solver $solver" >&2
+    "$bench" --scene "$scene" --size "$size" --steps "$steps" --solver "$solver" \
+      --json "build/growth/$scene-$size-$solver.json" >/dev/null
+  done
+  names+=("$scene-$size")
+done
+python3 - build/growth "${names[@]}" <<'PY'
+import json, os, sys
+folder, names = sys.argv[1], sys.argv[2:]
+print("| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
+      "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
+      "| ours device MB | ours device bytes per point |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+for name in names:
+    si = json.load(open(os.path.join(folder, name + "-si.json")))
+    oc = json.load(open(os.path.join(folder, name + "-ocl.json")))
+    s, o = si["si"], oc["ours"]
+    mb = lambda b: b / 2**20
+    print("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
+        si["scene"], si["bodies"], si["steps"], s["contactPointsMax"], o["contactPointsMax"],
+        s["msPerStep"]["median"], o["msPerStep"]["median"], o["msPerStep"]["median"] / s["msPerStep"]["median"],
+        s["msPer1000ContactPoints"], o["msPer1000ContactPoints"],
+        mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]), mb(o["deviceBytes"]), o["deviceBytesPerContactPoint"]))
+PY
