@@ -20,8 +20,6 @@ struct BatchLayout {
     // The serial path's layout: each group is one run that one work-item walks in order, not a
     // sequence of batches of independent constraints.
     bool serialRuns = false;
-    // Solved whole, every group by one work-group in one launch (a small step).
-    bool solvedWhole = false;
 };
 
 // The dynamic body on one side (0 = A, 1 = B) of a constraint, or -1: only dynamic bodies lock.

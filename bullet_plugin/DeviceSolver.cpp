@@ -1,7 +1,5 @@
 #include "DeviceSolver.h"
 
-#include "sweep_order.h"
-
 namespace btocl {
 namespace {
 
@@ -11,8 +9,7 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
     : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
-    // A CPU walks a group's permuted chunks faster when it asks for the next one ahead.
-    m_solveProgram = m_rt.buildProgramFile("solve.cl", m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "");
+    m_solveProgram = m_rt.buildProgramFile("solve.cl");
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
     m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
     m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
@@ -51,7 +48,6 @@ DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
     view.solveOrder = &m_solveOrder.buffer();
     view.batchEnd = &m_batchEnd.buffer();
     view.setGroupStart = layout.setGroupStart;
-    view.wholeStep = layout.solvedWhole;
     return view;
 }
 
@@ -92,15 +88,14 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& s, unsigned int seed,
-                              int iteration) {
+void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& s, int iteration) {
     cl::Kernel& k = m_passKernels[size_t(pass)];
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
         setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(),
                 m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(),
-                s.flags, cl_uint(seed), iteration, s.numIterations);
+                s.flags, iteration, s.numIterations);
         m_rt.launch(k, size_t(count) * size_t(m_lanes), size_t(m_lanes), "launching a solve pass");
     }
 }
@@ -108,9 +103,8 @@ void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const So
 void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& s) {
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
             m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(),
-            m_bodies.buffer(),
-            m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.residualThreshold,
-            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0, cl_uint(s.stepSeed), s.maxIterations);
+            m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.maxIterations, s.residualThreshold,
+            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0);
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
@@ -120,11 +114,7 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         launchWholeStep(layout, s);
         return;
     }
-    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s, 0, 0);
-    // The order of each iteration (kernels/sweep_order.h); 0 walks in order.
-    auto seed = [&](int kind, int it) {
-        return (s.flags & BTOCL_FLAG_PERMUTE) ? btoclIterationSeed(s.stepSeed, kind, it) : 0u;
-    };
+    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s, 0);
     const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     auto endIteration = [&](int split) {
         if (!track) return;
@@ -133,13 +123,13 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
     };
     if (s.splitImpulse && p.maySplitPenetration)
         for (int it = 0; it < s.numIterations; ++it) {
-            launchPass(layout, BTOCL_PASS_PENETRATION, s, seed(1, it), it);
+            launchPass(layout, BTOCL_PASS_PENETRATION, s, it);
             endIteration(1);
         }
     for (int it = 0; it < s.maxIterations; ++it) {
-        launchPass(layout, BTOCL_PASS_NORMAL, s, seed(0, it), it);
+        launchPass(layout, BTOCL_PASS_NORMAL, s, it);
         // Past m_numIterations only joints with a larger override count are solved.
-        if (it < s.numIterations) launchPass(layout, BTOCL_PASS_FRICTION, s, seed(0, it), it);
+        if (it < s.numIterations) launchPass(layout, BTOCL_PASS_FRICTION, s, it);
         endIteration(0);
     }
 }

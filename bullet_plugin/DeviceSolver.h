@@ -48,8 +48,7 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
-    void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, unsigned int seed,
-                    int iteration);
+    void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, int iteration);
     void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
 
     const OclRuntime& m_rt;

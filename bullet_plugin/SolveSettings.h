@@ -14,11 +14,9 @@ struct SolveSettings {
     float residualThreshold = 0;
     bool splitImpulse = false;
     bool warmStart = false;      // apply the rows' starting impulses before the iterations
-    unsigned int stepSeed = 0;   // with BTOCL_FLAG_PERMUTE, seeds each iteration's order
 
-    // permuteOrder: a fresh seeded order every iteration (btOpenCLSolverConfig; Bullet's
-    // SOLVER_RANDMIZE_ORDER asks for it too); stepIndex: the solver's count of steps, its seed.
-    static SolveSettings from(const btContactSolverInfo& info, bool permuteOrder, unsigned int stepIndex = 0) {
+    // rotatePoints: each iteration starts a manifold's points at another one (btOpenCLSolverConfig).
+    static SolveSettings from(const btContactSolverInfo& info, bool rotatePoints) {
         SolveSettings s;
         s.numIterations = s.maxIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
@@ -27,8 +25,7 @@ struct SolveSettings {
         // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
         if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
         if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
-        if (permuteOrder || (info.m_solverMode & SOLVER_RANDMIZE_ORDER)) s.flags |= BTOCL_FLAG_PERMUTE;
-        s.stepSeed = stepIndex;
+        if (rotatePoints) s.flags |= BTOCL_FLAG_ROTATE_POINTS;
         return s;
     }
 };

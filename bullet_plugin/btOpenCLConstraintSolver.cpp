@@ -86,7 +86,6 @@ struct btOpenCLConstraintSolver::Impl {
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
     double msGatherCalls = 0;  // time spent gathering inside this step's solveGroup calls
-    unsigned int stepIndex = 0;  // steps run: seeds each step's order (SolveSettings::stepSeed)
 
     // After an error: the bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
@@ -118,7 +117,7 @@ struct btOpenCLConstraintSolver::Impl {
         try {
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
-            btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.permuteOrder, stepIndex++);
+            btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.rotatePoints);
             settings.maxIterations = p.maxIterations(settings.numIterations);
             s.msGather = msGatherCalls + timer.lap();
 

@@ -35,7 +35,7 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PA
 // Flags of the solve kernels (SolveSettings::flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
-#define BTOCL_FLAG_PERMUTE 4         // each iteration walks each group in a fresh seeded order (sweep_order.h)
+#define BTOCL_FLAG_ROTATE_POINTS 4   // each iteration starts a manifold's normal rows at another point
 
 // Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/BulletGather.cpp).
 #define BTOCL_SOLVER_USE_WARMSTARTING 4

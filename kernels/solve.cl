@@ -10,62 +10,24 @@
 // in one launch, since a launch costs more than solving a few hundred constraints.
 #include "btocl_shared.h"
 #include "row_solve.h"
-#include "sweep_order.h"
-
-// The order seed of one iteration (kernels/sweep_order.h), 0 for "in order".
-inline uint sweepSeed(int flags, uint stepSeed, int kind, int iteration) {
-    return (flags & BTOCL_FLAG_PERMUTE) ? btoclIterationSeed(stepSeed, kind, iteration) : 0u;
-}
 
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
-// this one wrote), the lanes of the work-group sharing a batch; with a seed, the batches in that
-// seed's order, and on the serial path (one lane, one batch per group) the group's chunks too. Returns this lane's largest squared residual. Every lane must call
-// it: it holds barriers.
+// this one wrote), the lanes of the work-group sharing a batch. Returns this lane's largest
+// squared residual. Every lane must call it: it holds barriers.
 inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
-                        __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
-                        __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int applyFactors,
-                        uint seed, int iteration, int numIterations, int wholeStep) {
+                        __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
+                        __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
+                        int pass, int flags, int iteration, int numIterations) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     float maxResidual2 = 0.0f;
-    const btoclPermutation batches = btoclMakePermutation(g.numBatches, seed ^ btoclHash((uint)g.offset));
-    for (int kk = 0; kk < g.numBatches; ++kk) {
-        const int k = seed ? btoclPermute(batches, kk) : kk;
+    for (int k = 0; k < g.numBatches; ++k) {
         const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
         const int end = batchEnd[g.offset + k];
-        if (lanes == 1 && seed) {  // one work-item walks the run: chunks in the seed's order
-            const int chunk = btoclSweepChunkLength(end - begin, wholeStep);
-            const int numChunks = (end - begin + chunk - 1) / chunk;
-            const btoclPermutation chunks = btoclMakePermutation(numChunks, seed ^ btoclHash((uint)begin));
-            int next = begin + btoclPermute(chunks, 0) * chunk;
-            for (int cc = 0; cc < numChunks; ++cc) {
-                const int first = next;
-#ifdef BTOCL_CPU_PREFETCH
-                // A jump in memory: ask for the next chunk's first constraint while this one is solved.
-                if (cc + 1 < numChunks) {
-                    next = begin + btoclPermute(chunks, cc + 1) * chunk;
-                    __global const btoclConstraint* c = constraints + next;
-                    __global const char* row = (__global const char*)(rows + c->firstRow[pass == BTOCL_PASS_FRICTION ? BTOCL_ROWS_FRICTION : BTOCL_ROWS_NORMAL]);
-                    __builtin_prefetch(c);
-                    __builtin_prefetch(row);
-                    __builtin_prefetch(row + 64);
-                    __builtin_prefetch(deltas + c->bodyA);
-                    __builtin_prefetch(deltas + c->bodyB);
-                }
-#else
-                if (cc + 1 < numChunks) next = begin + btoclPermute(chunks, cc + 1) * chunk;
-#endif
-                for (int i = first; i < min(end, first + chunk); ++i)
-                    maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
-                                                                            bodies, deltas, pass, applyFactors,
-                                                                            iteration, numIterations));
-            }
-        } else {  // the lanes share a batch, whose constraints share no body: any order is the same
-            for (int i = begin + lane; i < end; i += lanes)
-                maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
-                                                                        bodies, deltas, pass, applyFactors, iteration,
-                                                                        numIterations));
-        }
+        for (int i = begin + lane; i < end; i += lanes)
+            maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied,
+                                                                    pushApplied, bodies, deltas, pass, flags, iteration,
+                                                                    numIterations));
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
     return maxResidual2;
@@ -73,31 +35,30 @@ inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global con
 
 // One set, one pass: work-group g solves group groups[groupBase + g].
 inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,
-                     __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
-                     __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                     __global btoclBodyDelta* deltas, __global int* control, const int pass, int flags, uint seed,
-                     int iteration, int numIterations) {
+                     __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
+                     __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
+                     __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
+                     const int pass, int flags, int iteration, int numIterations) {
     const int split = pass == BTOCL_PASS_PENETRATION;
     if (control[split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
-    const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow, applied,
-                                          pushApplied, bodies, deltas, pass, flags & BTOCL_FLAG_APPLY_FACTORS, seed,
-                                          iteration, numIterations, 0);
+    const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow,
+                                          applied, pushApplied, bodies, deltas, pass, flags, iteration, numIterations);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
         atomic_max(control + (split ? BTOCL_CONTROL_SPLIT_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
 }
 
 // One kernel per pass, so that the compiler folds the pass's branches away. iteration: the
-// velocity iteration, of which contact rows take part in the first numIterations (joints with a
-// larger override count go on; kernels/row_solve.h).
-#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                          \
-    __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,           \
-                       __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,             \
-                       __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,  \
-                       __global btoclBodyDelta* deltas, __global int* control, int flags, uint seed,           \
-                       int iteration, int numIterations) {                                                      \
-        solveSet(groups, groupBase, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, control,  \
-                 PASS, flags, seed, iteration, numIterations);                                                  \
+// iteration of this pass, of which contact rows take part in the first numIterations (joints
+// with a larger override count go on; kernels/row_solve.h).
+#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                      \
+    __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,       \
+                       __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,    \
+                       __global const int* normalOfRow, __global float* applied, __global float* pushApplied, \
+                       __global const btoclBody* bodies, __global btoclBodyDelta* deltas,                   \
+                       __global int* control, int flags, int iteration, int numIterations) {               \
+        solveSet(groups, groupBase, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,  \
+                 deltas, control, PASS, flags, iteration, numIterations);                                    \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
 BTOCL_SOLVE_SET_KERNEL(solvePenetrationRows, BTOCL_PASS_PENETRATION)
@@ -117,15 +78,14 @@ __kernel void endIteration(__global int* control, float threshold, int split) {
 
 // Every group of one pass, in order (one work-group); returns this lane's largest squared residual.
 inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                            __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
-                            __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                            __global btoclBodyDelta* deltas, int pass, int applyFactors, uint seed, int iteration,
-                            int numIterations) {
+                            __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
+                            __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
+                            __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int flags,
+                            int iteration, int numIterations) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
-        maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
-                                                     bodies, deltas, pass, applyFactors, seed, iteration, numIterations,
-                                                     1));
+        maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied,
+                                                     pushApplied, bodies, deltas, pass, flags, iteration, numIterations));
     return maxResidual2;
 }
 
@@ -146,32 +106,31 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
 // on the device by the residual threshold when one is set. Leaves the velocity iterations run in
 // control[BTOCL_CONTROL_ITERATIONS].
 __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                             __global const btoclConstraint* constraints, __global const btoclSolveRow* rows, __global const int* normalOfRow,
-                             __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                             __global btoclBodyDelta* deltas, __global int* control, int flags, int numIterations,
-                             float threshold, int warmStart, int splitImpulse, uint stepSeed, int maxIterations) {
+                             __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
+                             __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
+                             __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
+                             int flags, int numIterations, int maxIterations, float threshold, int warmStart,
+                             int splitImpulse) {
     __local int groupResidual;
     if (get_local_id(0) == 0) groupResidual = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    const int applyFactors = flags & BTOCL_FLAG_APPLY_FACTORS;
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
     if (warmStart)
-        solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas,
-                       BTOCL_PASS_WARMSTART, applyFactors, 0u, 0, numIterations);
+        solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,
+                       deltas, BTOCL_PASS_WARMSTART, flags, 0, numIterations);
     if (splitImpulse && control[BTOCL_CONTROL_HAS_PENETRATION])
         for (int it = 0; it < numIterations; ++it) {
-            const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
-                                           bodies, deltas, BTOCL_PASS_PENETRATION, applyFactors,
-                                           sweepSeed(flags, stepSeed, 1, it), it, numIterations);
+            const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied,
+                                           pushApplied, bodies, deltas, BTOCL_PASS_PENETRATION, flags, it,
+                                           numIterations);
             if (track && iterationConverged(&groupResidual, r, threshold)) break;
         }
     int iterations = 0;
     for (int it = 0; it < maxIterations; ++it) {
-        const uint seed = sweepSeed(flags, stepSeed, 0, it);
-        float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas,
-                                 BTOCL_PASS_NORMAL, applyFactors, seed, it, numIterations);
-        r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,
-                                   deltas, BTOCL_PASS_FRICTION, applyFactors, seed, it, numIterations));
+        float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
+                                 bodies, deltas, BTOCL_PASS_NORMAL, flags, it, numIterations);
+        r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
+                                   bodies, deltas, BTOCL_PASS_FRICTION, flags, it, numIterations));
         ++iterations;
         if (track && iterationConverged(&groupResidual, r, threshold)) break;
     }

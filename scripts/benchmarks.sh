@@ -9,7 +9,7 @@
 #
 # --quality runs scenes that come to rest (a pyramid with a base of 20, the default wall, a
 # small dense block of 216 boxes face to face, a pile of 1,000 dropped boxes) for 600 steps (10 s)
-# and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours (permuted order,
+# and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours (rotated points,
 # the default) and ours in a fixed order: the largest drift (from the start for scenes that start
 # at rest, else from step 450), the resting kinetic energy (mean of the last 150 steps), the
 # deepest penetration and whether the stacks stand. RUN, "scene size" each, replaces the scenes.
@@ -35,8 +35,8 @@ if [[ "$mode" == quality ]]; then
   for run in "${runs[@]}"; do
     read -r scene size <<<"$run"
     echo "== $scene (size $size, 600 steps)" >&2
-    # SI, SI randomized and ours (permuted) side by side; then ours in the fixed order alone.
-    "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order permuted \
+    # SI, SI randomized and ours (rotated) side by side; then ours in the fixed order alone.
+    "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order rotated \
       --json "build/quality/$scene-$size.json" >/dev/null
     "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order fixed \
       --json "build/quality/$scene-$size-fixed.json" >/dev/null
@@ -53,7 +53,7 @@ for name in names:
     both = json.load(open(os.path.join(folder, name + ".json")))
     fixed = json.load(open(os.path.join(folder, name + "-fixed.json")))
     sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]),
-             ("ours, permuted", both["ours"]), ("ours, fixed order", fixed["ours"])]
+             ("ours, rotated", both["ours"]), ("ours, fixed order", fixed["ours"])]
     label = "%s %d" % (both["scene"], both["size"])
     for solver, side in sides:
         q = side["quality"]

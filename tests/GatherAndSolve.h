@@ -35,9 +35,8 @@ inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveS
     DevicePrimitives primitives(rt, testBackend());
     DeviceSolver solver(rt, primitives, testLanesPerGroup());
     solver.upload(p);
-    BatchLayout asked = layout;
-    asked.solvedWhole = wholeStep;
-    const DeviceLayoutView view = solver.uploadLayout(asked);
+    DeviceLayoutView view = solver.uploadLayout(layout);
+    view.wholeStep = wholeStep;
     solver.arrange(p, view);
     solver.iterate(p, view, settings);
     const int iterations = solver.download(p, settings);

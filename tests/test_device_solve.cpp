@@ -3,7 +3,6 @@
 #include "DeviceBatcher.h"
 #include "GatherAndSolve.h"
 #include "LayoutValidator.h"
-#include "sweep_order.h"
 #include "HostSolver.h"
 #include "Scenes.h"
 #include "SerialLayout.h"
@@ -36,17 +35,16 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     groundAndPile(w, 64);
     btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
-    const bool permute = GENERATE(false, true);
+    const bool rotate = GENERATE(false, true);
     const bool wholeStep = GENERATE(false, true);  // one launch, or one per set and pass
-    CAPTURE(mode, permute, wholeStep);
+    CAPTURE(mode, rotate, wholeStep);
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     StepProblem host = gatherPileProblem(w, info);
     REQUIRE(host.numContactPoints() > 100);
     StepProblem dev = host;
-    BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    layout.solvedWhole = wholeStep;
-    const SolveSettings settings = SolveSettings::from(info, permute, 7);
+    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
+    const SolveSettings settings = SolveSettings::from(info, rotate);
 
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, wholeStep);
@@ -73,12 +71,11 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     info.m_leastSquaresResidualThreshold = 1e-3f;  // reached after about a dozen iterations
     StepProblem host = gatherPileProblem(w, info);
     StepProblem dev = host;
-    BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
+    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
     const SolveSettings settings = SolveSettings::from(info, true);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
     const bool wholeStep = GENERATE(false, true);
     CAPTURE(wholeStep);
-    layout.solvedWhole = wholeStep;
     const int hostIterations = solveOnHost(host, layout, settings);
     const int deviceIterations = solveOnDevice(dev, layout, settings, nullptr, wholeStep);
     INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
@@ -91,8 +88,7 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
 
 TEST_CASE("device solve on the split's own layout matches the host reference walking it", "[solve]") {
     // The path under test lays the step out as the solver does (serial: one run per cell group;
-    // wide: local batches), in many groups of four sets, each group's runs walked in a permuted
-    // order: the device solves the groups of a set at once, the host one after another. Groups
+    // wide: local batches), in many groups of four sets: the device solves the groups of a set at once, the host one after another. Groups
     // of a set share no dynamic body, so only float rounding may part them.
     World w(SolverKind::Reference);
     w.addGround();
@@ -115,12 +111,8 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     batcher.build(constraints, int(host.constraints.size()), host.splitBodies, params, options);
     const BatchLayout layout = batcher.download();
     REQUIRE(layout.setGroupStart[BTOCL_NUM_SETS] > 8);
-    int largest = 0;
-    for (const btoclGroup& g : layout.groups) largest = std::max(largest, g.count);
-    CAPTURE(layout.groups.size(), largest);
-    REQUIRE(largest > 2 * BTOCL_SWEEP_MAX_CHUNKS);  // a run walked in chunks of more than one
     REQUIRE(validateBatchLayout(layout, host.constraints) == "");
-    const SolveSettings settings = SolveSettings::from(info, true, 3);
+    const SolveSettings settings = SolveSettings::from(info, true);
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings);
     // As above: fused multiply-adds change the last bits of each row update.

@@ -88,11 +88,11 @@ private:
 // Builds the scene in both worlds and steps them kSteps in lock step: the reference's figures
 // and the candidate's.
 std::pair<RestingFigures, RestingFigures> runResting(World& ref, World& candidate,
-                                                     const std::function<void(World&)>& scene) {
-    for (World* w : {&ref, &candidate}) {
-        w->info().m_numIterations = 10;
-        scene(*w);
-    }
+                                                     const std::function<void(World&)>& scene,
+                                                     const std::function<void(World&)>& candidateScene = {}) {
+    ref.info().m_numIterations = candidate.info().m_numIterations = 10;
+    scene(ref);
+    (candidateScene ? candidateScene : scene)(candidate);
     RestingTracker trackRef(ref), trackCandidate(candidate);
     for (int i = 0; i < kSteps; ++i) {
         ref.step();
@@ -129,9 +129,30 @@ int numDynamicBodies(const World& w) {
     return n;
 }
 
+// The scene with every dynamic body moved by `shift` along x (and half of it along z).
+std::function<void(World&)> shifted(const std::function<void(World&)>& scene, btScalar shift) {
+    return [scene, shift](World& w) {
+        scene(w);
+        for (btRigidBody* body : w.bodies())
+            if (!body->isStaticOrKinematicObject()) body->translate(btVector3(shift, 0, shift * btScalar(0.5)));
+    };
+}
+
+// SI's figures are taken as the worst of three runs, the scene as built and moved by 2 and 4 um:
+// at rest the jitter is chaotic, and ours in SI's order differs from SI by float rounding alone.
+// SI against itself moved by 1 to 6 um (hidden test "[perturbed]"): pyramid 3.7e-5 to 4.3e-5 J,
+// wall 1.5e-4 to 3.5e-4 J, dense block 2.2e-4 to 1.14e-3 J (4.1e-4 J unmoved) and drift 14 to
+// 23 mm (15 mm unmoved).
 void requireRestsAsSI(const std::function<void(World&)>& scene) {
     Pair p;
-    const auto [ref, ours] = runResting(p.ref, p.ours, scene);
+    auto [ref, ours] = runResting(p.ref, p.ours, scene);
+    World a(SolverKind::Reference), b(SolverKind::Reference);
+    const auto [moved2, moved4] = runResting(a, b, shifted(scene, btScalar(2e-6)), shifted(scene, btScalar(4e-6)));
+    for (const RestingFigures& moved : {moved2, moved4}) {
+        ref.maxDrift = std::max(ref.maxDrift, moved.maxDrift);
+        ref.restingEnergy = std::max(ref.restingEnergy, moved.restingEnergy);
+        ref.stands = ref.stands && moved.stands;
+    }
     const double driftBound = 1.3 * ref.maxDrift + kDriftFloor;
     const double energyBound = 1.3 * ref.restingEnergy + kRestingEnergyFloorPerBody * numDynamicBodies(p.ref);
     CAPTURE(ref.maxDrift, ours.maxDrift, driftBound);
@@ -190,17 +211,11 @@ SleepFigures stepsToSleep(const std::function<void(World&)>& scene) {
 
 }  // namespace
 
-// [!mayfail] on the pyramid and the wall: our resting kinetic energy is past its bound there (10
-// iterations, 600 steps; SI, bound, ours serial, ours wide): pyramid 4.30e-5, 3.31e-4, 5.30e-4,
-// 6.31e-4 J; wall 1.65e-4, 4.34e-4, 1.20e-3, 1.01e-3 J. The cause is the permuted order (the
-// default): in the fixed order ours rests at 4.33e-5 and 1.52e-4 J, as SI; SI in its own shuffled
-// order rests at 2.6e-4 and 4.1e-4 J. The bound stays; the tag goes once ours meets it. A
-// failure is still printed in the log.
-TEST_CASE("parity: a pyramid with a base of 10 rests as with SI", "[parity][resting][!mayfail]") {
+TEST_CASE("parity: a pyramid with a base of 10 rests as with SI", "[parity][resting]") {
     requireRestsAsSI([](World& w) { groundAndPyramid(w, 10); });
 }
 
-TEST_CASE("parity: a brick wall rests as with SI", "[parity][resting][!mayfail]") {
+TEST_CASE("parity: a brick wall rests as with SI", "[parity][resting]") {
     requireRestsAsSI([](World& w) { groundAndBrickWall(w, 8); });
 }
 
@@ -244,6 +259,24 @@ TEST_CASE("resting floors: SI against SI in shuffled orders", "[.][floors]") {
             const auto [a, b] = runResting(ref, shuffled, scene);
             char label[64];
             std::snprintf(label, sizeof label, "%s seed %lu", name, seed);
+            printFigures(label, a, b);
+        }
+}
+
+// SI against itself started a few micrometres apart: at rest, how far does its own jitter wander
+// from float-level differences (ours in SI's order differs from SI by rounding alone)? Hidden:
+// `btocl_tests "[perturbed]"`.
+TEST_CASE("resting floors: SI against SI started a few micrometres apart", "[.][perturbed]") {
+    const std::pair<const char*, std::function<void(World&)>> scenes[] = {
+        {"pyramid", [](World& w) { groundAndPyramid(w, 10); }},
+        {"wall", [](World& w) { groundAndBrickWall(w, 8); }},
+        {"block", [](World& w) { groundAndDenseBlock(w); }}};
+    for (const auto& [name, scene] : scenes)
+        for (int k = 1; k <= 6; ++k) {
+            World ref(SolverKind::Reference), moved(SolverKind::Reference);
+            const auto [a, b] = runResting(ref, moved, scene, shifted(scene, btScalar(k) * btScalar(1e-6)));
+            char label[64];
+            std::snprintf(label, sizeof label, "%s moved %d um", name, k);
             printFigures(label, a, b);
         }
 }

@@ -2,17 +2,12 @@
 
 #include "row_setup.h"
 #include "row_solve.h"
-#include "sweep_order.h"
 
 #include <algorithm>
 
 namespace btocl {
 namespace {
 
-// One pass over every set, group and batch in layout order (with a seed, each group's batches
-// and each run's chunks in that seed's order, as kernels/solve.cl walks them); returns the
-// largest squared residual. The iteration and m_numIterations matter to the velocity passes only
-// (btoclSolveConstraint).
 // The rows as the iterations read them (btoclSolveRow), in gather order, with each friction and
 // rolling row's normal row.
 struct SolveRows {
@@ -33,34 +28,23 @@ SolveRows solveRowsOf(const StepProblem& p) {
     return s;
 }
 
+// One pass over every set, group and batch in layout order; returns the largest squared residual.
+// The iteration and m_numIterations matter to the velocity passes (btoclSolveConstraint).
 float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout, std::vector<float>& applied,
-                std::vector<float>& pushApplied, int pass, int applyFactors, unsigned int seed, int iteration,
-                int numIterations) {
+                std::vector<float>& pushApplied, int pass, int flags, int iteration, int numIterations) {
     float maxResidual2 = 0;
-    for (const btoclGroup& g : layout.groups) {
-        const btoclPermutation batches = btoclMakePermutation(g.numBatches, seed ^ btoclHash(unsigned(g.offset)));
-        for (int kk = 0; kk < g.numBatches; ++kk) {
-            const int k = seed ? btoclPermute(batches, kk) : kk;
+    for (const btoclGroup& g : layout.groups)
+        for (int k = 0; k < g.numBatches; ++k) {
             const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
-            // Chunks in the seed's order, as the serial path walks a run (the wide path's lanes
-            // share a batch in any order: its constraints share no body, so this order serves too).
-            const int chunk = seed ? btoclSweepChunkLength(end - begin, layout.solvedWhole) : std::max(1, end - begin);
-            const int numChunks = (end - begin + chunk - 1) / chunk;
-            const btoclPermutation chunks = btoclMakePermutation(numChunks, seed ^ btoclHash(unsigned(begin)));
-            for (int cc = 0; cc < numChunks; ++cc) {
-                const int first = begin + (seed ? btoclPermute(chunks, cc) : cc) * chunk;
-                for (int i = first; i < std::min(end, first + chunk); ++i) {
-                    const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
-                    maxResidual2 = std::max(maxResidual2,
-                                            btoclSolveConstraint(&c, rows.rows.data(), rows.normalOfRow.data(),
-                                                                 applied.data(), pushApplied.data(), p.bodies.data(),
-                                                                 p.deltas.data(), pass, applyFactors, iteration,
-                                                                 numIterations));
-                }
+            for (int i = begin; i < end; ++i) {
+                const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
+                maxResidual2 = std::max(maxResidual2,
+                                        btoclSolveConstraint(&c, rows.rows.data(), rows.normalOfRow.data(),
+                                                             applied.data(), pushApplied.data(), p.bodies.data(),
+                                                             p.deltas.data(), pass, flags, iteration, numIterations));
             }
         }
-    }
     return maxResidual2;
 }
 
@@ -85,15 +69,9 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
         applied[r] = BTOCL_ROW_APPLIED(p.rows[r]);
         pushApplied[r] = BTOCL_ROW_APPLIED_PUSH(p.rows[r]);
     }
-    const int applyFactors = settings.flags & BTOCL_FLAG_APPLY_FACTORS;
     const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    const bool permute = (settings.flags & BTOCL_FLAG_PERMUTE) != 0;
-    // The order seed of an iteration: split-impulse iterations are kind 1, velocity ones kind 0.
     auto pass = [&](int which, int iteration) {
-        const int kind = which == BTOCL_PASS_PENETRATION ? 1 : 0;
-        const unsigned int seed =
-            permute && which != BTOCL_PASS_WARMSTART ? btoclIterationSeed(settings.stepSeed, kind, iteration) : 0u;
-        return solvePass(p, rows, layout, applied, pushApplied, which, applyFactors, seed, iteration,
+        return solvePass(p, rows, layout, applied, pushApplied, which, settings.flags, iteration,
                          settings.numIterations);
     };
     int iterations = 0, numJointRows = 0;

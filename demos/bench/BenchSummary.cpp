@@ -54,8 +54,8 @@ Json quality(const SolverSide& side, const RunFacts& facts) {
 Json sideJson(const SolverSide& side, const RunFacts& facts) {
     Json s = Json::object();
     s["solver"] = side.kind == SolverKind::OpenCL ? "btOpenCLConstraintSolver" : "btSequentialImpulseConstraintSolver";
-    // The Gauss-Seidel order: Bullet's fixed or randomized (SOLVER_RANDMIZE_ORDER), ours permuted or fixed.
-    s["order"] = side.ocl ? (side.ocl->getConfig().permuteOrder ? "permuted" : "fixed")
+    // The Gauss-Seidel order: Bullet's fixed or randomized (SOLVER_RANDMIZE_ORDER), ours rotated or fixed.
+    s["order"] = side.ocl ? (side.ocl->getConfig().rotatePoints ? "rotated" : "fixed")
                           : (side.kind == SolverKind::BulletSIRandomized ? "randomized" : "fixed");
     s["error"] = side.error.empty() ? Json() : Json(side.error);
     s["stepsDone"] = side.stepsDone;
@@ -85,7 +85,7 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
         Json medians = Json::object(), p90s = Json::object();
         const PhaseSamples& p = side.phases;
         const std::pair<const char*, const std::vector<double>*> named[] = {
-            {"gather", &p.gather}, {"upload", &p.upload}, {"setup", &p.setup},         {"split", &p.split},
+            {"gather", &p.gather}, {"device", &p.device}, {"upload", &p.upload}, {"setup", &p.setup},         {"split", &p.split},
             {"batch", &p.batch},   {"solve", &p.solve},   {"writeback", &p.writeback}, {"download", &p.download},
             {"total", &p.total}};
         for (const auto& [name, samples] : named) {

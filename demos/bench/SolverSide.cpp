@@ -68,6 +68,7 @@ void stepSolverSide(SolverSide& side, double dt) {
         side.validationFailures += s.validationFailures;
         PhaseSamples& p = side.phases;
         p.gather.push_back(s.msGather);
+        p.device.push_back(s.msDevice);
         p.upload.push_back(s.msUpload);
         p.setup.push_back(s.msSetup);
         p.split.push_back(s.msSplit);

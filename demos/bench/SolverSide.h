@@ -21,7 +21,7 @@ enum class SolverKind { BulletSI, BulletSIRandomized, OpenCL };
 
 // Phases of ours, read from getLastStats() after every step.
 struct PhaseSamples {
-    std::vector<double> gather, upload, setup, split, batch, solve, writeback, download, total;
+    std::vector<double> gather, device, upload, setup, split, batch, solve, writeback, download, total;
 };
 
 struct SolverSide {

@@ -73,7 +73,7 @@ int run(const BenchOptions& options) {
     config.solvePath = options.solvePath == "serial" ? btOpenCLSolvePath::Serial
                        : options.solvePath == "wide" ? btOpenCLSolvePath::Wide
                                                      : btOpenCLSolvePath::Auto;
-    config.permuteOrder = options.order == "permuted";
+    config.rotatePoints = options.order == "rotated";
     std::unique_ptr<SolverSide> si, ours, siRandomized;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)
