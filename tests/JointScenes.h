@@ -534,20 +534,19 @@ inline std::unique_ptr<btTypedConstraint> randomJoint(JointKind k, btRigidBody& 
 }  // namespace detail
 
 // A seeded random scene of every joint type of the list above (JointKind), hanging in the air:
-// `clusters` clusters 8 m apart (out of each other's reach), each a chain of one to three boxes
+// `clusters` clusters 8 m apart (out of each other's reach), `perRow` to a row, each a chain of one to three boxes
 // of random size and mass from a static hook or the fixed body, each joined to the one above by
 // a joint of a random kind, with random axes, limits, motors and springs that hold the starting
 // pose; the bodies start with random velocities. Every cluster whose number is 10 mod 11 is two
 // wheels on hinges to the fixed body, geared; the first joint of the others takes each other kind
 // in turn (11 clusters have them all). Returns each joint's kind, in the world's joint order.
-inline std::vector<JointKind> addRandomJointScene(World& w, unsigned seed, int clusters) {
+inline std::vector<JointKind> addRandomJointScene(World& w, unsigned seed, int clusters, int perRow = 4) {
     SceneRandom rng(seed);
     std::vector<JointKind> kinds;
     auto add = [&](std::unique_ptr<btTypedConstraint> c, JointKind k) {
         w.addConstraint(std::move(c));
         kinds.push_back(k);
     };
-    const int perRow = 4;
     int nonGear = 0;
     for (int i = 0; i < clusters; ++i) {
         const btVector3 top(btScalar(i % perRow) * 8, 20, btScalar(i / perRow) * 8);

@@ -610,6 +610,23 @@ TEST_CASE("parity: joint feedback is within 5% of SI's", "[parity][joints]") {
 
 namespace {
 
+// 8 ragdolls lying face down around `centre` (on the ground): four side by side, 1 m apart,
+// and four across them dropped from 0.5 to 1.4 m, each turned a little its own way: they land
+// on the ground, on each other, limbs across limbs, in a heap about 0.6 m high.
+void addRagdollHeap(World& w, const btVector3& centre, unsigned seed) {
+    SceneRandom rng(seed);
+    const btQuaternion faceDown(btVector3(1, 0, 0), SIMD_HALF_PI);
+    for (int k = 0; k < 4; ++k) {
+        const btQuaternion yaw(btVector3(0, 1, 0), rng.uniform(-0.3f, 0.3f));
+        addRagdoll(w, btTransform(yaw * faceDown, centre + btVector3(btScalar(k) - 1.5f, 0.15f, rng.uniform(-0.2f, 0.2f))));
+    }
+    for (int k = 0; k < 4; ++k) {
+        const btQuaternion yaw(btVector3(0, 1, 0), SIMD_HALF_PI + rng.uniform(-0.3f, 0.3f));
+        const btVector3 at(rng.uniform(-0.2f, 0.2f), 0.5f + 0.3f * btScalar(k), (btScalar(k) - 1.5f) * 0.7f);
+        addRagdoll(w, btTransform(yaw * faceDown, centre + at));
+    }
+}
+
 // The centre of mass of each ragdoll of a world that holds the ground (body 0) and ragdolls.
 std::vector<btVector3> ragdollCentres(const World& w) {
     std::vector<btVector3> centres;
@@ -641,23 +658,10 @@ double largestMove(const std::vector<btVector3>& from, const std::vector<btVecto
 }  // namespace
 
 TEST_CASE("parity: ragdolls fall on each other and come to rest as with SI", "[parity][joints]") {
-    // 8 ragdolls lying face down: four side by side on the ground, 1 m apart, and four across
-    // them dropped from 0.5 to 1.4 m, each turned a little its own way: they land on the ground,
-    // on each other, limbs across limbs, in a heap about 0.6 m high.
     Pair p;
     p.build([](World& w) {
         w.addGround();
-        SceneRandom rng(7);
-        const btQuaternion faceDown(btVector3(1, 0, 0), SIMD_HALF_PI);
-        for (int k = 0; k < 4; ++k) {
-            const btQuaternion yaw(btVector3(0, 1, 0), rng.uniform(-0.3f, 0.3f));
-            addRagdoll(w, btTransform(yaw * faceDown, btVector3(btScalar(k) - 1.5f, 0.15f, rng.uniform(-0.2f, 0.2f))));
-        }
-        for (int k = 0; k < 4; ++k) {
-            const btQuaternion yaw(btVector3(0, 1, 0), SIMD_HALF_PI + rng.uniform(-0.3f, 0.3f));
-            const btVector3 at(rng.uniform(-0.2f, 0.2f), 0.5f + 0.3f * btScalar(k), (btScalar(k) - 1.5f) * 0.7f);
-            addRagdoll(w, btTransform(yaw * faceDown, at));
-        }
+        addRagdollHeap(w, btVector3(0, 0, 0), 7);
     });
     double worstRef = 0, worstOurs = 0, deepestRef = 0, deepestOurs = 0, energyRef = 0, energyOurs = 0;
     std::vector<btVector3> partsRef, partsOurs, centresRef, centresOurs;  // at 9 s
@@ -705,16 +709,61 @@ TEST_CASE("parity: ragdolls fall on each other and come to rest as with SI", "[p
     REQUIRE(worstOurs <= 1.5 * worstRef);
 }
 
+TEST_CASE("parity: nine heaps of ragdolls on the global split hold their joints as SI's", "[parity][joints]") {
+    // 72 ragdolls in nine heaps 5 m apart (about 720 joints and 900 contact manifolds: the
+    // global split and the per-set solve, joints beside contacts), stepped 3 s.
+    Pair p;
+    p.build([](World& w) {
+        w.addGround();
+        for (int k = 0; k < 9; ++k)
+            addRagdollHeap(w, btVector3(btScalar(k % 3) * 5, 0, btScalar(k / 3) * 5), 100 + unsigned(k));
+    });
+    double worstRef = 0, worstOurs = 0, deepestRef = 0, deepestOurs = 0;
+    p.run(180, [&](World& r, World& o) {
+        worstRef = std::max(worstRef, maxJointError(r));
+        worstOurs = std::max(worstOurs, maxJointError(o));
+        deepestRef = std::max(deepestRef, double(r.maxPenetration()));
+        deepestOurs = std::max(deepestOurs, double(o.maxPenetration()));
+    });
+    report("nine heaps: worst joint stretch (m)", worstRef, worstOurs);
+    report("nine heaps: deepest penetration (m)", deepestRef, deepestOurs);
+    if (const btOpenCLConstraintSolver* solver = p.ours.openCL()) {
+        const btOpenCLSolverStats& stats = solver->getLastStats();
+        std::printf("[joints] nine heaps: %d joint rows, %d contact points, %d groups\n", stats.numJointRows,
+                    stats.numContactPoints, stats.numGroups);
+        CHECK(!stats.solvedWholeStep);
+    }
+    REQUIRE(allFinite(p.ours));
+    REQUIRE(worstOurs <= 1.5 * worstRef);
+    REQUIRE(deepestOurs <= 1.5 * deepestRef);
+}
+
+namespace {
+
+// A random joint scene (JointScenes.h: addRandomJointScene) and its bounds, measured below.
+struct RandomCase {
+    unsigned seed;
+    int clusters, perRow;
+    double worstFactor;  // the scene's worst joint error against SI's
+    double energyShare;  // energy gaps against the energy SI's scene loses
+};
+
+}  // namespace
+
 TEST_CASE("parity: random scenes of every joint type stay as SI's", "[parity][joints]") {
-    // 22 clusters of one to three boxes hanging from the world by every joint type (JointScenes.h:
-    // addRandomJointScene), with limits, motors and springs, stepped 3 s. The scenes are chaotic:
-    // two orders part within a second, so what is compared is how well the joints hold and how
-    // much energy the scene keeps, not where the bodies go. Bounds measured over seeds 1-20.
-    const unsigned seed = GENERATE(1u, 2u, 3u);
-    CAPTURE(seed);
+    // Clusters of one to three boxes hanging from the world by every joint type, with limits,
+    // motors and springs, stepped 3 s: three scenes of 22 clusters (about 45 joints: a small
+    // step, solved whole in one group) and one of 500 (about 1000 joints: the global split and
+    // the per-set solve). The scenes are chaotic: two orders part within a second, so what is
+    // compared is how well the joints hold and how much energy the scene keeps, not where the
+    // bodies go. Bounds measured over seeds 1-20 (small) and 1-10 (large).
+    const RandomCase c = GENERATE(values<RandomCase>(
+        {{1, 22, 4, 1.5, 0.25}, {2, 22, 4, 1.5, 0.25}, {3, 22, 4, 1.5, 0.25}, {4, 500, 24, 2.0, 0.1}}));
+    const unsigned seed = c.seed;
+    CAPTURE(seed, c.clusters);
     Pair p;
     std::vector<JointKind> kinds;
-    p.build([&](World& w) { kinds = addRandomJointScene(w, seed, 22); });
+    p.build([&](World& w) { kinds = addRandomJointScene(w, seed, c.clusters, c.perRow); });
     std::vector<double> jointRef(kinds.size(), 0), jointOurs(kinds.size(), 0);  // each joint's worst error
     const double startEnergy = mechanicalEnergy(p.ref);
     double worstEnergyGap = 0;
@@ -728,6 +777,11 @@ TEST_CASE("parity: random scenes of every joint type stay as SI's", "[parity][jo
     });
     REQUIRE(allFinite(p.ref));
     REQUIRE(allFinite(p.ours));
+    if (const btOpenCLConstraintSolver* solver = p.ours.openCL()) {  // the path the scene's size asks for
+        const btOpenCLSolverStats& stats = solver->getLastStats();
+        CHECK(stats.solvedWholeStep == (c.clusters <= 22));
+        if (c.clusters > 22) CHECK(stats.numGroups > 100);
+    }
 
     const std::string name = "random " + std::to_string(seed) + ": ";
     const int numKinds = int(JointKind::Count);
@@ -759,23 +813,29 @@ TEST_CASE("parity: random scenes of every joint type stay as SI's", "[parity][jo
 
     // Every kind is there (11 clusters hold them all).
     for (int k = 0; k < numKinds; ++k) REQUIRE(std::count(kinds.begin(), kinds.end(), JointKind(k)) > 0);
-    // The joints hold as SI's: the scene's worst joint error and the mean of the joints' worst
-    // errors within the issue's 1.5x of SI's. Over seeds 1-20, SI shuffled reaches 1.32x and
-    // 1.27x (ours 1.22x and 1.10x; wide path 1.11x and 1.03x).
-    REQUIRE(worstOurs <= 1.5 * worstRef);
+    // The joints hold as SI's: the mean of the joints' worst errors within the issue's 1.5x of
+    // SI's, and the scene's worst joint error within 1.5x on the small scenes, 2x on the large.
+    // Small, seeds 1-20: SI shuffled reaches 1.32x (worst) and 1.27x (mean); ours 1.22x and
+    // 1.10x, wide path 1.11x and 1.03x. Large, seeds 1-10: the worst of a thousand joints is
+    // one outlier, SI shuffled reaches 1.50x (seed 8; 1.05x at most on the others) and 1.15x;
+    // ours 1.17x and 1.02x, wide 1.01x and 1.00x.
+    REQUIRE(worstOurs <= c.worstFactor * worstRef);
     REQUIRE(meanOurs <= 1.5 * meanRef);
-    // Kind by kind, a handful of joints each, chance weighs more: over seeds 1-20 SI shuffled
-    // reaches 13.7x SI's worst (at 0.2 mm) and 2.8 mm above 3x; ours 2.1 mm above 3x (wide
-    // 0.8 mm), its largest ratio at a centimetre 2.4x (seed 17's universal joint, 2.8x wide; SI
-    // shuffled 1.7x there). A kind whose rows were wrong would let its bodies fall: metres in 3 s.
+    // Kind by kind, a handful of joints each in the small scenes, chance weighs more: over seeds
+    // 1-20 SI shuffled reaches 13.7x SI's worst (at 0.2 mm) and 2.8 mm above 3x; ours 2.1 mm
+    // above 3x (wide 0.8 mm), its largest ratio at a centimetre 2.4x (seed 17's universal joint,
+    // 2.8x wide; SI shuffled 1.7x there). In the large scenes all stay under 1.7x. A kind whose
+    // rows were wrong would let its bodies fall: metres in 3 s.
     for (int k = 0; k < numKinds; ++k) {
         CAPTURE(jointKindName(JointKind(k)));
         REQUIRE(kindOurs[size_t(k)] <= 3 * kindRef[size_t(k)] + 0.01);
     }
-    // Energy: 66 to 191 J go to the joints' error correction, damping, springs and motors (net).
-    // Over seeds 1-20 SI shuffled loses up to 13.6% more or less than SI by the end, and parts
-    // from it by up to 13.6% of SI's loss on the way (ours 5.1% and 5.9%; wide 7.1% and 9.6%).
+    // Energy: 66 to 191 J (small) or 2300 to 2800 J (large) go to the joints' error correction,
+    // damping, springs and motors (net). Small, seeds 1-20: SI shuffled loses up to 13.6% more or
+    // less than SI by the end, and parts from it by up to 13.6% of SI's loss on the way (ours
+    // 5.1% and 5.9%; wide 7.1% and 9.6%): bound 25%. Large, seeds 1-10: SI shuffled 3.3% and
+    // 3.4%, ours 1.1% and 1.2%, wide 0.9% and 0.9%: bound 10%.
     REQUIRE(lostRef > 0);
-    REQUIRE(std::fabs(lostOurs - lostRef) <= 0.25 * lostRef);
-    REQUIRE(worstEnergyGap <= 0.25 * lostRef);
+    REQUIRE(std::fabs(lostOurs - lostRef) <= c.energyShare * lostRef);
+    REQUIRE(worstEnergyGap <= c.energyShare * lostRef);
 }
