@@ -20,17 +20,11 @@ target_include_directories(btocl_bench PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")  #
 target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
 
 if(BTOCL_BUILD_TESTS)
-  set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid)
-  # One smoke run per scene: small, 20 steps, both solvers side by side, split and batch
-  # invariants checked every step; an error of our solver fails the test.
+  set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid ragdolls machine)
+  # One smoke run per scene (the joint scenes too): small, 20 steps, both solvers side by side,
+  # split and batch invariants checked every step; an error of our solver fails the test.
   foreach(scene IN LISTS BTOCL_BENCH_SCENES)
     add_test(NAME bench_smoke_${scene} COMMAND btocl_bench --scene ${scene} --smoke --validate)
-    list(APPEND BTOCL_BENCH_TESTS bench_smoke_${scene})
-  endforeach()
-  # Scenes with joints: Bullet's side only for now, since our solver still refuses joints (a
-  # btOpenCLSolverError); once it solves them they join the list above, both sides validated.
-  foreach(scene IN ITEMS ragdolls machine)
-    add_test(NAME bench_smoke_${scene} COMMAND btocl_bench --scene ${scene} --smoke --solver si)
     list(APPEND BTOCL_BENCH_TESTS bench_smoke_${scene})
   endforeach()
   # The harness itself: with Bullet's solver on both sides the two worlds must stay identical

@@ -13,7 +13,7 @@
 
 namespace btocl::test {
 
-// One step's problem, gathered from the world's bodies and manifolds as they are.
+// One step's problem, gathered from the world's bodies, manifolds and joints as they are.
 inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
     StepGatherer builder;
     builder.begin(info, setup);
@@ -21,6 +21,8 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
     builder.addBodies(&objects[0], objects.size());
     const std::vector<btPersistentManifold*> manifolds = w.manifolds();
     builder.addManifolds(manifolds.data(), int(manifolds.size()));
+    std::vector<btTypedConstraint*> joints = w.constraints();
+    builder.addJoints(joints.data(), int(joints.size()));
     StepProblem p = builder.finish();
     builder.releaseBodies();
     return p;

@@ -5,6 +5,8 @@
 
 #include "TestWorld.h"
 
+#include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -311,6 +313,278 @@ inline std::vector<std::string> addJointZoo(World& w) {
         w.addFeedback(add(std::make_unique<btGearConstraint>(*a, *b, btVector3(0, 0, 1), btVector3(0, 0, 1), 2), "gear pair"));
     }
     return names;
+}
+
+// A ragdoll of 11 boxes joined by 10 limited joints, the figure of demos/bench's `ragdolls` scene
+// (after Bullet's ragdoll demo): cone-twist joints at the neck, hips and shoulders, hinges at the
+// waist, knees and elbows. 1.65 m tall, arms spread, about 80 kg (density 1000), with the demo's
+// damping (0.05 linear, 0.85 angular). `pose` places the upright figure (pelvis at its origin).
+inline std::vector<btRigidBody*> addRagdoll(World& w, const btTransform& pose) {
+    struct Part {
+        btVector3 half, centre;
+    };
+    struct Joint {
+        int a, b;
+        bool hinge;
+        btVector3 pivot;
+        btQuaternion frame;  // turns the joint's axis (x: cone-twist's twist, z: hinge's) into place
+        btScalar limit0, limit1, limit2;
+    };
+    const Part parts[] = {
+        {{0.16f, 0.10f, 0.10f}, {0, 0.15f, 0}},        {{0.17f, 0.16f, 0.10f}, {0, 0.43f, 0}},
+        {{0.09f, 0.10f, 0.09f}, {0, 0.73f, 0}},        {{0.07f, 0.22f, 0.07f}, {-0.09f, -0.17f, 0}},
+        {{0.06f, 0.21f, 0.06f}, {-0.09f, -0.61f, 0}},  {{0.07f, 0.22f, 0.07f}, {0.09f, -0.17f, 0}},
+        {{0.06f, 0.21f, 0.06f}, {0.09f, -0.61f, 0}},   {{0.15f, 0.05f, 0.05f}, {-0.33f, 0.53f, 0}},
+        {{0.13f, 0.045f, 0.045f}, {-0.62f, 0.53f, 0}}, {{0.15f, 0.05f, 0.05f}, {0.33f, 0.53f, 0}},
+        {{0.13f, 0.045f, 0.045f}, {0.62f, 0.53f, 0}},
+    };
+    const btScalar pi = SIMD_PI, half = SIMD_HALF_PI, quarter = SIMD_PI / 4;
+    const btQuaternion aboutX(btVector3(0, 1, 0), half), aboutY(btVector3(1, 0, 0), -half);
+    const btQuaternion up(btVector3(0, 0, 1), half), down(btVector3(0, 0, 1), -half);
+    const btQuaternion left(btVector3(0, 0, 1), pi), right = btQuaternion::getIdentity();
+    const Joint joints[] = {
+        {0, 1, true, {0, 0.26f, 0}, aboutX, -quarter, half, 0},            // waist
+        {1, 2, false, {0, 0.61f, 0}, up, quarter, quarter, half},          // neck
+        {0, 3, false, {-0.09f, 0.05f, 0}, down, quarter, quarter, 0},      // left hip
+        {3, 4, true, {-0.09f, -0.395f, 0}, aboutX, 0, half, 0},            // left knee
+        {0, 5, false, {0.09f, 0.05f, 0}, down, quarter, quarter, 0},       // right hip
+        {5, 6, true, {0.09f, -0.395f, 0}, aboutX, 0, half, 0},             // right knee
+        {1, 7, false, {-0.175f, 0.53f, 0}, left, half, half, 0},           // left shoulder
+        {7, 8, true, {-0.485f, 0.53f, 0}, aboutY, -half, 0, 0},            // left elbow
+        {1, 9, false, {0.175f, 0.53f, 0}, right, half, half, 0},           // right shoulder
+        {9, 10, true, {0.485f, 0.53f, 0}, aboutY, 0, half, 0},             // right elbow
+    };
+    std::vector<btRigidBody*> body;
+    for (const Part& p : parts) {
+        const btScalar mass = 1000 * 8 * p.half.x() * p.half.y() * p.half.z();
+        body.push_back(w.addBox(p.half, mass, pose * at(p.centre)));
+        body.back()->setDamping(btScalar(0.05), btScalar(0.85));
+    }
+    for (const Joint& j : joints) {
+        const btTransform fa(j.frame, j.pivot - parts[j.a].centre), fb(j.frame, j.pivot - parts[j.b].centre);
+        if (j.hinge) {
+            auto hinge = std::make_unique<btHingeConstraint>(*body[size_t(j.a)], *body[size_t(j.b)], fa, fb);
+            hinge->setLimit(j.limit0, j.limit1);
+            w.addConstraint(std::move(hinge));
+        } else {
+            auto cone = std::make_unique<btConeTwistConstraint>(*body[size_t(j.a)], *body[size_t(j.b)], fa, fb);
+            cone->setLimit(j.limit0, j.limit1, j.limit2);
+            w.addConstraint(std::move(cone));
+        }
+    }
+    return body;
+}
+
+// A deterministic random number stream for scene builders (the same in every build).
+class SceneRandom {
+public:
+    explicit SceneRandom(unsigned seed) : m_state(seed * 2654435761u + 12345u) {}
+    btScalar uniform(btScalar lo = 0, btScalar hi = 1) {  // in [lo, hi)
+        m_state = m_state * 1664525u + 1013904223u;
+        return lo + (hi - lo) * btScalar((m_state >> 8) & 0xffffffu) / btScalar(16777216);
+    }
+    int below(int n) { return std::min(n - 1, int(uniform() * btScalar(n))); }
+    btVector3 unitVector() {
+        for (;;) {
+            const btVector3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            if (v.length2() > btScalar(0.05) && v.length2() <= 1) return v.normalized();
+        }
+    }
+    btVector3 vector(btScalar scale) { return btVector3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) * scale; }
+
+private:
+    unsigned m_state;
+};
+
+// The joint types of the random scene, in the order of their ids.
+enum class JointKind {
+    Point2Point, Hinge, Hinge2, Universal, Slider, ConeTwist, Generic6Dof, Spring6Dof, Spring2, Fixed, Gear, Count
+};
+inline const char* jointKindName(JointKind k) {
+    static const char* names[] = {"point2point", "hinge", "hinge2", "universal", "slider", "cone-twist",
+                                  "6dof", "6dof spring", "6dof spring2", "fixed", "gear"};
+    return names[int(k)];
+}
+
+namespace detail {
+
+// A rotation whose x axis is `x` (any y and z about it).
+inline btMatrix3x3 basisWithX(const btVector3& x) {
+    btVector3 y, z;
+    btPlaneSpace1(x, y, z);
+    return btMatrix3x3(x.x(), y.x(), z.x(), x.y(), y.y(), z.y(), x.z(), y.z(), z.z());
+}
+
+// The world frame `world` in the frame of body b (for a joint frame that starts where `world` is).
+inline btTransform frameIn(const btRigidBody& b, const btTransform& world) {
+    return b.getCenterOfMassTransform().inverse() * world;
+}
+
+// A joint of kind k between a (the world when a is a static body or the fixed body) and b,
+// anchored at `anchor` (world), with random axes, limits, motors and springs that hold the start.
+inline std::unique_ptr<btTypedConstraint> randomJoint(JointKind k, btRigidBody& a, btRigidBody& b, btVector3 anchor,
+                                                      SceneRandom& rng) {
+    btVector3 axis = rng.unitVector();
+    btVector3 side, third;
+    btPlaneSpace1(axis, side, third);
+    const btTransform world(basisWithX(axis), anchor);
+    const btTransform fa = detail::frameIn(a, world), fb = detail::frameIn(b, world);
+    const bool motor = rng.uniform() < btScalar(0.5);
+    switch (k) {
+        case JointKind::Point2Point:
+            return std::make_unique<btPoint2PointConstraint>(a, b, fa.getOrigin(), fb.getOrigin());
+        case JointKind::Hinge: {
+            // Frames whose z (the hinge's axis) is `axis`: the angle starts at 0, inside the limits
+            // (the constructor from pivots and axes may start it anywhere, at pi too).
+            const btTransform zWorld(btMatrix3x3(side.x(), third.x(), axis.x(), side.y(), third.y(), axis.y(), side.z(),
+                                                 third.z(), axis.z()),
+                                     anchor);
+            auto c = std::make_unique<btHingeConstraint>(a, b, detail::frameIn(a, zWorld), detail::frameIn(b, zWorld));
+            if (rng.uniform() < btScalar(0.7))
+                c->setLimit(-rng.uniform(btScalar(0.2), 1), rng.uniform(btScalar(0.2), 1));
+            if (motor) c->enableAngularMotor(true, rng.uniform(-2, 2), rng.uniform(btScalar(0.05), btScalar(0.5)));
+            return c;
+        }
+        case JointKind::Hinge2: {
+            auto c = std::make_unique<btHinge2Constraint>(a, b, anchor, axis, side);
+            c->setLowerLimit(-rng.uniform(btScalar(0.1), btScalar(0.6)));
+            c->setUpperLimit(rng.uniform(btScalar(0.1), btScalar(0.6)));
+            return c;
+        }
+        case JointKind::Universal: {
+            auto c = std::make_unique<btUniversalConstraint>(a, b, anchor, axis, side);
+            c->setLowerLimit(-rng.uniform(btScalar(0.2), 1), -rng.uniform(btScalar(0.2), 1));
+            c->setUpperLimit(rng.uniform(btScalar(0.2), 1), rng.uniform(btScalar(0.2), 1));
+            return c;
+        }
+        case JointKind::Slider: {
+            auto c = std::make_unique<btSliderConstraint>(a, b, fa, fb, true);
+            c->setLowerLinLimit(-rng.uniform(btScalar(0.1), btScalar(0.5)));
+            c->setUpperLinLimit(rng.uniform(btScalar(0.1), btScalar(0.5)));
+            c->setLowerAngLimit(-rng.uniform(0, 1));
+            c->setUpperAngLimit(rng.uniform(0, 1));
+            if (motor) {
+                c->setPoweredLinMotor(true);
+                c->setTargetLinMotorVelocity(rng.uniform(-1, 1));
+                c->setMaxLinMotorForce(rng.uniform(1, 20));
+            }
+            return c;
+        }
+        case JointKind::ConeTwist: {
+            auto c = std::make_unique<btConeTwistConstraint>(a, b, fa, fb);
+            c->setLimit(rng.uniform(btScalar(0.2), 1), rng.uniform(btScalar(0.2), 1), rng.uniform(btScalar(0.1), 1));
+            return c;
+        }
+        case JointKind::Generic6Dof: {
+            auto c = std::make_unique<btGeneric6DofConstraint>(a, b, fa, fb, true);
+            c->setLinearLowerLimit(btVector3(-rng.uniform(0, btScalar(0.3)), 0, 0));
+            c->setLinearUpperLimit(btVector3(rng.uniform(0, btScalar(0.3)), 0, 0));
+            c->setAngularLowerLimit(btVector3(-rng.uniform(0, 1), -rng.uniform(0, 1), -rng.uniform(0, 1)));
+            c->setAngularUpperLimit(btVector3(rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1)));
+            if (motor) {
+                c->getRotationalLimitMotor(0)->m_enableMotor = true;
+                c->getRotationalLimitMotor(0)->m_targetVelocity = rng.uniform(-1, 1);
+                c->getRotationalLimitMotor(0)->m_maxMotorForce = rng.uniform(1, 5);
+            }
+            return c;
+        }
+        case JointKind::Spring6Dof: {
+            auto c = std::make_unique<btGeneric6DofSpringConstraint>(a, b, fa, fb, true);
+            c->setLinearLowerLimit(btVector3(-rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+            c->setLinearUpperLimit(btVector3(rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+            c->setAngularLowerLimit(btVector3(-1, 0, 0));
+            c->setAngularUpperLimit(btVector3(1, 0, 0));
+            c->enableSpring(0, true);
+            c->setStiffness(0, rng.uniform(20, 100));
+            c->setDamping(0, rng.uniform(btScalar(0.2), 1));
+            c->enableSpring(3, true);
+            c->setStiffness(3, rng.uniform(5, 30));
+            c->setDamping(3, rng.uniform(btScalar(0.2), 1));
+            c->setEquilibriumPoint();
+            return c;
+        }
+        case JointKind::Spring2: {
+            auto c = std::make_unique<btGeneric6DofSpring2Constraint>(a, b, fa, fb);
+            c->setLinearLowerLimit(btVector3(-rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+            c->setLinearUpperLimit(btVector3(rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+            c->setAngularLowerLimit(btVector3(-1, 0, 0));
+            c->setAngularUpperLimit(btVector3(1, 0, 0));
+            c->enableSpring(0, true);
+            c->setStiffness(0, rng.uniform(20, 100));
+            c->setDamping(0, rng.uniform(btScalar(0.5), 3));
+            c->enableSpring(3, true);
+            c->setStiffness(3, rng.uniform(5, 30));
+            c->setDamping(3, rng.uniform(btScalar(0.1), 1));
+            c->setEquilibriumPoint();
+            if (motor) {
+                c->enableMotor(4, true);  // y, locked unless the limits open it: open it for the motor
+                c->setLimit(4, -1, 1);
+                c->setTargetVelocity(4, rng.uniform(-1, 1));
+                c->setMaxMotorForce(4, rng.uniform(1, 5));
+            }
+            return c;
+        }
+        case JointKind::Fixed:
+            return std::make_unique<btFixedConstraint>(a, b, fa, fb);
+        default:
+            return nullptr;
+    }
+}
+
+}  // namespace detail
+
+// A seeded random scene of every joint type of the list above (JointKind), hanging in the air:
+// `clusters` clusters 8 m apart (out of each other's reach), `perRow` to a row, each a chain of one to three boxes
+// of random size and mass from a static hook or the fixed body, each joined to the one above by
+// a joint of a random kind, with random axes, limits, motors and springs that hold the starting
+// pose; the bodies start with random velocities. Every cluster whose number is 10 mod 11 is two
+// wheels on hinges to the fixed body, geared; the first joint of the others takes each other kind
+// in turn (11 clusters have them all). Returns each joint's kind, in the world's joint order.
+inline std::vector<JointKind> addRandomJointScene(World& w, unsigned seed, int clusters, int perRow = 4) {
+    SceneRandom rng(seed);
+    std::vector<JointKind> kinds;
+    auto add = [&](std::unique_ptr<btTypedConstraint> c, JointKind k) {
+        w.addConstraint(std::move(c));
+        kinds.push_back(k);
+    };
+    int nonGear = 0;
+    for (int i = 0; i < clusters; ++i) {
+        const btVector3 top(btScalar(i % perRow) * 8, 20, btScalar(i / perRow) * 8);
+        auto box = [&](const btVector3& centre) {
+            BodyOptions o;
+            o.linearVelocity = rng.vector(1);
+            o.angularVelocity = rng.vector(2);
+            const btVector3 half(rng.uniform(btScalar(0.15), btScalar(0.35)), rng.uniform(btScalar(0.15), btScalar(0.3)),
+                                 rng.uniform(btScalar(0.15), btScalar(0.35)));
+            const btQuaternion turn(rng.unitVector(), rng.uniform(0, SIMD_PI));
+            return w.addBox(half, rng.uniform(btScalar(0.5), 3), at(centre, turn), o);
+        };
+        if (i % 11 == 10) {  // the gear: two wheels turning about parallel axes through their centres
+            const btVector3 axis = rng.unitVector();
+            btRigidBody* a = box(top);
+            btRigidBody* b = box(top + btVector3(2, 0, 0));
+            const btVector3 axisA = a->getCenterOfMassTransform().getBasis().transpose() * axis;
+            const btVector3 axisB = b->getCenterOfMassTransform().getBasis().transpose() * axis;
+            add(std::make_unique<btHingeConstraint>(*a, btVector3(0, 0, 0), axisA), JointKind::Hinge);
+            add(std::make_unique<btHingeConstraint>(*b, btVector3(0, 0, 0), axisB), JointKind::Hinge);
+            add(std::make_unique<btGearConstraint>(*a, *b, axisA, axisB, rng.uniform(btScalar(0.5), 2)), JointKind::Gear);
+            continue;
+        }
+        const int firstKind = nonGear++ % 10;  // each kind in turn first, then any
+        const bool hook = rng.uniform() < btScalar(0.5);
+        btRigidBody* above = hook ? w.addBox(btVector3(btScalar(0.1), btScalar(0.1), btScalar(0.1)), 0, at(top))
+                                  : &btTypedConstraint::getFixedBody();
+        btVector3 anchor = top;
+        const int links = 1 + rng.below(3);
+        for (int k = 0; k < links; ++k) {
+            const JointKind kind = JointKind(k == 0 ? firstKind : rng.below(10));
+            btRigidBody* body = box(anchor - btVector3(0, btScalar(0.5), 0));
+            add(detail::randomJoint(kind, *above, *body, anchor, rng), kind);
+            above = body;
+            anchor -= btVector3(0, 1, 0);
+        }
+    }
+    return kinds;
 }
 
 }  // namespace testworld

@@ -1,6 +1,9 @@
 // Global split and local batching: the device against its serial host twin (bitwise), the
-// invariants of DESIGN §5 on every layout, batch quality against greedy colouring, determinism.
+// invariants of DESIGN §5 on every layout, batch quality against greedy colouring, determinism;
+// layouts of worlds with joints, gathered from Bullet.
 #include "BatchingScenes.h"
+#include "GatherAndSolve.h"
+#include "JointScenes.h"
 #include "HostBatching.h"
 #include "LayoutValidator.h"
 #include "DeviceBatcher.h"
@@ -14,6 +17,9 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
+#include <unordered_map>
+#include <utility>
 
 using namespace btocl;
 using namespace btocl_test;
@@ -296,4 +302,171 @@ TEST_CASE("non-finite contact points neither crash nor part device from host", "
     requireSameLayout(device, buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
     CHECK(device.groups.size() > 1);
     CHECK(validateBatchLayout(device, scene.constraints) == "");
+}
+
+namespace {
+
+// A Bullet world's step as the solver gathers it (bodies, manifolds, then joints) after `steps`
+// steps of SI, as a scene for the batcher: its constraints (a joint's after the contacts') and
+// split bodies (each body's extent grown by the reach of its joints).
+BatchScene gatheredScene(const std::string& name, testworld::World& w, int steps) {
+    for (int i = 0; i < steps; ++i) w.step();
+    StepProblem p = btocl::test::gatherProblem(w, w.stepInfo(), RowSetup::Device);
+    BatchScene scene;
+    scene.name = name;
+    scene.constraints = p.constraints;
+    scene.bodies = p.splitBodies;
+    return scene;
+}
+
+int numJointConstraints(const std::vector<btoclConstraint>& constraints) {
+    return int(std::count_if(constraints.begin(), constraints.end(),
+                             [](const btoclConstraint& c) { return c.numRows[BTOCL_ROWS_JOINT] > 0; }));
+}
+
+// DESIGN §5 directly: outside the overflow group, the constraints of each dynamic body lie
+// within one cell edge of each other on every axis (so no two cells of one set share it).
+// Returns "" or the first body that reaches further.
+std::string reachWithinCells(const BatchLayout& layout, const std::vector<btoclConstraint>& constraints) {
+    std::unordered_map<int, std::pair<Vec3, Vec3>> box;  // per dynamic body: its constraints' box
+    for (int gi = 0; gi < layout.setGroupStart[BTOCL_OVERFLOW_SET]; ++gi) {
+        const btoclGroup& g = layout.groups[size_t(gi)];
+        for (int i = g.offset; i < g.offset + g.count; ++i) {
+            const btoclConstraint& c = constraints[size_t(layout.solveOrder[size_t(i)])];
+            const Vec3 p{c.position.x, c.position.y, c.position.z};
+            for (int side = 0; side < 2; ++side) {
+                const int body = dynamicBodyOf(c, side);
+                if (body < 0) continue;
+                auto it = box.emplace(body, std::make_pair(p, p)).first;
+                Vec3& lo = it->second.first;
+                Vec3& hi = it->second.second;
+                lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+                hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+            }
+        }
+    }
+    for (const auto& [body, b] : box) {
+        const float reach = std::max({b.second.x - b.first.x, b.second.y - b.first.y, b.second.z - b.first.z});
+        if (reach > layout.cellSize)
+            return "body " + std::to_string(body) + " reaches " + std::to_string(reach) + " m across its constraints, " +
+                   "past the cell of " + std::to_string(layout.cellSize) + " m";
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("layouts of worlds with joints keep every invariant", "[batching][joints]") {
+    using namespace testworld;
+    // Sixteen ragdolls lying on the ground 2.5 m apart, and eight chains of 12 links hanging among
+    // them from a fixed point (point-to-point joints): joints beside contacts over many cells.
+    World ragdolls(SolverKind::Reference);
+    ragdolls.addGround();
+    const btQuaternion faceDown(btVector3(1, 0, 0), SIMD_HALF_PI);
+    for (int k = 0; k < 16; ++k)
+        addRagdoll(ragdolls, btTransform(faceDown, btVector3(btScalar(k % 4) * 2.5f, 0.15f, btScalar(k / 4) * 2.5f)));
+    for (int k = 0; k < 8; ++k) addChain(ragdolls, btVector3(btScalar(k % 4) * 2.5f + 1.25f, 7, btScalar(k / 4) * 5 + 1.25f), 12, 1);
+    // Every joint type, in the air (JointScenes.h), and the random scene of all of them.
+    World zoo(SolverKind::Reference);
+    addJointZoo(zoo);
+    World random(SolverKind::Reference);
+    addRandomJointScene(random, 5, 22);
+
+    const std::vector<BatchScene> scenes = {gatheredScene("ragdolls and chains", ragdolls, 30),
+                                            gatheredScene("joint zoo", zoo, 5),
+                                            gatheredScene("random joints", random, 5)};
+    const int window = fixture().batcher.windowSize(64);
+    for (const BatchScene& scene : scenes) {
+        INFO(scene.name << ", " << scene.constraints.size() << " constraints, " << numJointConstraints(scene.constraints)
+                        << " of them joints");
+        REQUIRE(numJointConstraints(scene.constraints) > 0);
+        // The wide path's layout (local batches): no dynamic body twice in a batch, none in two
+        // groups of one set; and the device's is its host twin's.
+        const BatchLayout device = runDevice(scene);
+        CHECK(device.groups.size() > 1);
+        CHECK(validateBatchLayout(device, scene.constraints) == "");
+        CHECK(reachWithinCells(device, scene.constraints) == "");
+        requireSameLayout(device, buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
+        std::printf("[batching] %-28s %6zu constraints (%d joints) %5zu groups, %d in the overflow group, cell %.2f m\n",
+                    scene.name.c_str(), scene.constraints.size(), numJointConstraints(scene.constraints),
+                    device.groups.size(), device.numOverflowConstraints, double(device.cellSize));
+        // The serial path's (one run per group) and the one-group layout of a small step.
+        for (const LayoutOptions options : {LayoutOptions{false, false}, LayoutOptions{true, true}}) {
+            Fixture& f = fixture();
+            f.constraints.write(f.rt, scene.constraints);
+            f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, SplitParams{}, options);
+            CHECK(validateBatchLayout(f.batcher.download(), scene.constraints) == "");
+        }
+    }
+}
+
+namespace {
+
+// A rod: two boxes of 0.2 m lying on the ground 20 m apart along x, joined by a point-to-point
+// joint at the middle (each pivot 10 m from its box): each box's constraints (its contacts with
+// the ground, the joint) reach 10 m. Beside it, `boxes` unit boxes on the ground in rows 2 m
+// apart around the rod.
+void groundRodAndBoxes(testworld::World& w, int boxes) {
+    w.addGround();
+    const btVector3 half(btScalar(0.1), btScalar(0.1), btScalar(0.1));
+    btRigidBody* a = w.addBox(half, 1, testworld::at(btVector3(-10, btScalar(0.1), 0)));
+    btRigidBody* b = w.addBox(half, 1, testworld::at(btVector3(10, btScalar(0.1), 0)));
+    w.addConstraint(std::make_unique<btPoint2PointConstraint>(*a, *b, btVector3(10, 0, 0), btVector3(-10, 0, 0)));
+    for (int k = 0; k < boxes; ++k)
+        w.addUnitBox(btVector3(btScalar(k % 10) * 2 - 9, btScalar(0.5), btScalar(k / 10 + 1) * 2));
+}
+
+}  // namespace
+
+TEST_CASE("a joint whose bodies are far apart goes to the overflow group or a cell big enough", "[batching][joints]") {
+    using namespace testworld;
+    const int window = fixture().batcher.windowSize(64);
+    auto check = [&](const BatchScene& scene, const BatchLayout& layout) {
+        CHECK(validateBatchLayout(layout, scene.constraints) == "");
+        CHECK(reachWithinCells(layout, scene.constraints) == "");
+        requireSameLayout(layout, buildBatchesHostStreamed(scene.constraints, scene.bodies, SplitParams{}, window));
+    };
+    // Among 40 unit boxes the rod's boxes reach 10 m, past 4x the median body (1 m): their
+    // constraints, the joint's and their contacts, go to the overflow group.
+    {
+        World w(SolverKind::Reference);
+        groundRodAndBoxes(w, 40);
+        const BatchScene scene = gatheredScene("rod among boxes", w, 3);
+        REQUIRE(numJointConstraints(scene.constraints) == 1);
+        const int joint = int(scene.constraints.size()) - 1;  // the joints' come last
+        REQUIRE(scene.constraints[size_t(joint)].numRows[BTOCL_ROWS_JOINT] == 3);
+        CHECK(scene.bodies[1].extent >= 10);  // the rod's boxes: their reach, not their 0.2 m
+        CHECK(scene.bodies[2].extent >= 10);
+        const BatchLayout layout = runDevice(scene);
+        check(scene, layout);
+        REQUIRE(layout.setGroupStart[BTOCL_OVERFLOW_SET + 1] - layout.setGroupStart[BTOCL_OVERFLOW_SET] == 1);
+        const btoclGroup& overflow = layout.groups.back();
+        const std::vector<int> inOverflow(layout.solveOrder.begin() + overflow.offset,
+                                          layout.solveOrder.begin() + overflow.offset + overflow.count);
+        CHECK(std::count(inOverflow.begin(), inOverflow.end(), joint) == 1);
+        // Its boxes' contacts with the ground (4 points a box, one manifold each) go with it.
+        CHECK(overflow.count == 3);
+        CHECK(layout.numOverflowConstraints == 3);
+        CHECK(layout.cellSize < 2);  // the unit boxes keep their small cells
+        CHECK(layout.groups.size() > 4);
+        // Both checks have teeth: had the split planned for the boxes' own 0.2 m, the joint would
+        // sit in a cell 10 m from their contacts', in a group of the same set.
+        BatchScene blind = scene;
+        blind.bodies[1].extent = blind.bodies[2].extent = 0.2f;
+        const BatchLayout wrong = runDevice(blind);
+        CHECK(wrong.numOverflowConstraints == 0);
+        CHECK(reachWithinCells(wrong, blind.constraints) != "");
+        CHECK(validateBatchLayout(wrong, blind.constraints).find("is in groups") != std::string::npos);
+    }
+    // With nothing beside it the rod sets the cell: one edge of 11 m holds each box's reach.
+    {
+        World w(SolverKind::Reference);
+        groundRodAndBoxes(w, 0);
+        const BatchScene scene = gatheredScene("rod alone", w, 3);
+        REQUIRE(numJointConstraints(scene.constraints) == 1);
+        const BatchLayout layout = runDevice(scene);
+        check(scene, layout);
+        CHECK(layout.numOverflowConstraints == 0);
+        CHECK(layout.cellSize >= 10);
+    }
 }
