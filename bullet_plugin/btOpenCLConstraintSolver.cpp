@@ -3,6 +3,7 @@
 #include "LayoutValidator.h"
 #include "DeviceBatcher.h"
 #include "DeviceSolver.h"
+#include "InputChecks.h"
 #include "OclRuntime.h"
 #include "SolveSettings.h"
 #include "BulletGather.h"
@@ -165,19 +166,13 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
                                               btPersistentManifold** manifolds, int numManifolds,
                                               btTypedConstraint** constraints, int numConstraints,
                                               const btContactSolverInfo& info, btIDebugDraw*, btDispatcher*) {
-    (void)constraints;
     Impl& impl = *m_impl;
-    if (numConstraints > 0) {
-        impl.abandonStep();
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
-                                  "remove them from the world or use btSequentialImpulseConstraintSolver");
-    }
-    if (!(info.m_timeStep > 0) || info.m_numIterations < 0) {
-        impl.abandonStep();
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: the time step must be positive and the iteration count "
-                                  "not negative");
-    }
     try {
+        btocl::checkSolveGroupArguments(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints);
+        btocl::checkSolverInfo(info);
+        if (numConstraints > 0)
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
+                                      "remove them from the world or use btSequentialImpulseConstraintSolver");
         impl.gather(bodies, numBodies, manifolds, numManifolds, info);
     } catch (...) {
         impl.abandonStep();
