@@ -9,6 +9,8 @@
 #include "BulletGather.h"
 #include "StepWriteBack.h"
 
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+
 #include <chrono>
 #include <cmath>
 
@@ -170,9 +172,11 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
     try {
         btocl::checkSolveGroupArguments(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints);
         btocl::checkSolverInfo(info);
-        if (numConstraints > 0)
-            throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
-                                      "remove them from the world or use btSequentialImpulseConstraintSolver");
+        // Disabled joints (setEnabled(false), or broken) are skipped, as Bullet's solver skips them.
+        for (int i = 0; i < numConstraints; ++i)
+            if (constraints[i]->isEnabled())
+                throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
+                                          "remove them from the world or use btSequentialImpulseConstraintSolver");
         impl.gather(bodies, numBodies, manifolds, numManifolds, info);
     } catch (...) {
         impl.abandonStep();
