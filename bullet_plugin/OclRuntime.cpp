@@ -1,5 +1,6 @@
 #include "OclRuntime.h"
 
+#include "FaultInjection.h"
 #include "KernelSources.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -53,6 +54,7 @@ const char* clErrorName(cl_int err) {
 }
 
 void checkCl(cl_int err, const char* what) {
+    err = injectedResult(err);
     if (err == CL_SUCCESS) return;
     std::ostringstream ss;
     ss << "btOpenCLConstraintSolver: " << what << " failed: " << clErrorName(err) << " (" << err << ")";
@@ -185,6 +187,8 @@ void OclRuntime::launch(const cl::Kernel& kernel, size_t items, size_t local, co
 }
 
 void OclRuntime::finish(const char* what) const { checkCl(m_queue.finish(), what); }
+
+void OclRuntime::drain() const noexcept { m_queue.finish(); }
 
 double eventMs(const cl::Event& event) {
     if (!event()) return 0;

@@ -2,6 +2,7 @@
 
 #include "LayoutValidator.h"
 #include "DeviceBatcher.h"
+#include "DeviceFit.h"
 #include "DeviceSolver.h"
 #include "InputChecks.h"
 #include "OclRuntime.h"
@@ -38,7 +39,13 @@ private:
 
 struct btOpenCLConstraintSolver::Impl {
     explicit Impl(const btOpenCLSolverConfig& c)
-        : config(checked(c)), runtime(c.device), device(runtime, c.workGroupSize), batcher(runtime) {}
+        : config(checked(c)),
+          runtime(c.device),
+          limits(btocl::deviceLimitsOf(runtime)),
+          device(runtime, c.workGroupSize),
+          batcher(runtime) {}
+    // Nothing queued may outlive the host memory it reads: the step's vectors die with this.
+    ~Impl() { runtime.drain(); }
 
     static const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
         if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
@@ -53,6 +60,7 @@ struct btOpenCLConstraintSolver::Impl {
 
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
+    btocl::DeviceLimits limits;
     btocl::DeviceSolver device;
     btocl::DeviceBatcher batcher;
     btocl::StepGatherer gatherer;
@@ -90,6 +98,7 @@ struct btOpenCLConstraintSolver::Impl {
             const btContactSolverInfo& info = gatherer.info();
             const btocl::SolveSettings settings = btocl::SolveSettings::from(info);
             s.msGather = msGatherCalls + timer.lap();
+            btocl::checkStepFitsDevice(btocl::countsOf(p), limits);  // before the first enqueue
 
             device.upload(p);
             runtime.finish("uploading the step");
@@ -138,7 +147,8 @@ struct btOpenCLConstraintSolver::Impl {
 
             fillCounts(s, p);
         } catch (...) {
-            abandonStep();  // leave the world as it was before the step's solve
+            runtime.drain();  // what is queued still reads and writes the step's host vectors
+            abandonStep();    // leave the world as it was before the step's solve
             throw;
         }
         gathering = false;

@@ -2,7 +2,7 @@
 // non-finite field of a body (by its world index), of a contact point (by the world indices of
 // its manifold's objects) or of the solver settings (by field name), negative counts. Each
 // refused step leaves the world byte-for-byte as it was; the solver then steps on.
-#include "Scenes.h"
+#include "SettledPile.h"
 #include "WorldSnapshot.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -23,39 +23,10 @@ namespace {
 const btScalar kNaN = std::numeric_limits<btScalar>::quiet_NaN();
 const btScalar kInf = std::numeric_limits<btScalar>::infinity();
 
-// 20 boxes settled by SI (16 on the ground, 4 on top of them), and our solver driven by hand on
-// all of the world's objects and manifolds, as btDiscreteDynamicsWorld drives it.
-struct SettledPile {
-    World w{SolverKind::Reference};
+// SettledPile (SettledPile.h) with a solver of ours that validates every step.
+struct OurPile {
     btOpenCLConstraintSolver solver{validatingConfig()};
-    std::vector<btCollisionObject*> objects;
-    std::vector<btPersistentManifold*> manifolds;
-    btRigidBody* top = nullptr;  // a box of the upper layer, touching boxes below it
-
-    SettledPile() {
-        groundAndPile(w, 20);
-        for (int s = 0; s < 60; ++s) w.step();
-        const btCollisionObjectArray& all = w.dyn().getCollisionObjectArray();
-        for (int i = 0; i < all.size(); ++i) objects.push_back(all[i]);
-        manifolds = w.manifolds();
-        top = w.body(17);
-    }
-    void solve(const btContactSolverInfo& info) {
-        solver.prepareSolve(int(objects.size()), int(manifolds.size()));
-        solver.solveGroup(objects.data(), int(objects.size()), manifolds.data(), int(manifolds.size()), nullptr, 0,
-                          info, nullptr, &w.dispatcher());
-        solver.allSolved(info, nullptr);
-    }
-    // The manifold between `top` and a dynamic box below it, with its points.
-    btPersistentManifold* manifoldOfTop() {
-        for (btPersistentManifold* m : manifolds) {
-            const bool touches = m->getBody0() == top || m->getBody1() == top;
-            const btCollisionObject* other = m->getBody0() == top ? m->getBody1() : m->getBody0();
-            if (touches && !other->isStaticObject() && m->getNumContacts() > 0) return m;
-        }
-        FAIL("the pile has no box resting on another");
-        return nullptr;
-    }
+    SettledPile pile{solver};
 };
 
 // Runs a step that must be refused with a btOpenCLSolverError holding every one of `pieces`, and
@@ -83,7 +54,8 @@ std::string pointOf(const btPersistentManifold* m) {
 }  // namespace
 
 TEST_CASE("a non-finite field of a body is refused, naming the body by its world index", "[errors][input]") {
-    SettledPile p;
+    OurPile our;
+    SettledPile& p = our.pile;
     btRigidBody& b = *p.top;
     struct Field {
         const char* name;  // as the message names it
@@ -118,12 +90,14 @@ TEST_CASE("a non-finite field of a body is refused, naming the body by its world
     b.setMassProps(1, inertia);
     // All restored: the step is solved.
     p.solve(p.w.stepInfo());
-    CHECK(p.solver.getLastStats().numContactPoints > 0);
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
 TEST_CASE("a non-finite field of a contact point is refused, naming the two objects of its manifold", "[errors][input]") {
-    SettledPile p;
+    OurPile our;
+    SettledPile& p = our.pile;
     btPersistentManifold* m = p.manifoldOfTop();
+    REQUIRE(m != nullptr);
     btManifoldPoint& cp = m->getContactPoint(m->getNumContacts() - 1);  // the last point read
     struct Field {
         const char* name;
@@ -170,13 +144,15 @@ TEST_CASE("a non-finite field of a contact point is refused, naming the two obje
             cp.m_contactPointFlags = flagsBefore;
         }
     p.solve(p.w.stepInfo());
-    CHECK(p.solver.getLastStats().numContactPoints > 0);
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
 TEST_CASE("a contact point field the step does not read may be anything", "[input]") {
     // Bullet leaves such fields as they are; refusing them would refuse valid worlds.
-    SettledPile p;
+    OurPile our;
+    SettledPile& p = our.pile;
     btPersistentManifold* m = p.manifoldOfTop();
+    REQUIRE(m != nullptr);
     btManifoldPoint& cp = m->getContactPoint(0);
     cp.m_contactPointFlags = 0;
     cp.m_contactCFM = kNaN;  // read only with BT_CONTACT_FLAG_HAS_CONTACT_CFM
@@ -192,7 +168,8 @@ TEST_CASE("a contact point field the step does not read may be anything", "[inpu
 }
 
 TEST_CASE("a non-finite or out-of-range solver setting is refused, naming the field", "[errors][input]") {
-    SettledPile p;
+    OurPile our;
+    SettledPile& p = our.pile;
     struct Setting {
         const char* name;
         std::function<void(btContactSolverInfo&, btScalar)> set;
@@ -230,18 +207,19 @@ TEST_CASE("a non-finite or out-of-range solver setting is refused, naming the fi
     info.m_numIterations = -1;
     requireRefused(p, info, {"m_numIterations", "negative"});
     p.solve(p.w.stepInfo());
-    CHECK(p.solver.getLastStats().numContactPoints > 0);
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
 TEST_CASE("negative counts and null arrays given to solveGroup are a btOpenCLSolverError", "[errors][input]") {
-    SettledPile p;
+    OurPile our;
+    SettledPile& p = our.pile;
     const btContactSolverInfo info = p.w.stepInfo();
     btCollisionObject** bodies = p.objects.data();
     btPersistentManifold** manifolds = p.manifolds.data();
     const int nb = int(p.objects.size()), nm = int(p.manifolds.size());
     auto solveGroup = [&](btCollisionObject** b, int numBodies, btPersistentManifold** m, int numManifolds,
                           int numConstraints) {
-        p.solver.solveGroup(b, numBodies, m, numManifolds, nullptr, numConstraints, info, nullptr, &p.w.dispatcher());
+        our.solver.solveGroup(b, numBodies, m, numManifolds, nullptr, numConstraints, info, nullptr, &p.w.dispatcher());
     };
     CHECK_THROWS_WITH(solveGroup(bodies, -1, manifolds, nm, 0), Catch::Contains("numBodies is -1"));
     CHECK_THROWS_WITH(solveGroup(bodies, nb, manifolds, -2, 0), Catch::Contains("numManifolds is -2"));
@@ -250,7 +228,7 @@ TEST_CASE("negative counts and null arrays given to solveGroup are a btOpenCLSol
     CHECK_THROWS_WITH(solveGroup(bodies, nb, nullptr, nm, 0), Catch::Contains("numManifolds"));
     CHECK_THROWS_AS(solveGroup(bodies, nb, manifolds, nm, 1), btOpenCLSolverError);  // a null constraint array
     solveGroup(bodies, nb, manifolds, nm, 0);  // outside prepareSolve/allSolved: solved at once
-    CHECK(p.solver.getLastStats().numContactPoints > 0);
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
 TEST_CASE("a NaN inverse inertia in a world is reported at its body, not at the box it touches", "[errors][input]") {
