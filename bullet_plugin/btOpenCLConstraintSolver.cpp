@@ -7,6 +7,7 @@
 #include "InputChecks.h"
 #include "OclRuntime.h"
 #include "SolveSettings.h"
+#include "BulletFallback.h"
 #include "BulletGather.h"
 #include "StepWriteBack.h"
 
@@ -43,7 +44,8 @@ struct btOpenCLConstraintSolver::Impl {
           runtime(c.device),
           limits(btocl::deviceLimitsOf(runtime)),
           device(runtime, c.workGroupSize),
-          batcher(runtime) {}
+          batcher(runtime),
+          fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {}
     // Nothing queued may outlive the host memory it reads: the step's vectors die with this.
     ~Impl() { runtime.drain(); }
 
@@ -64,16 +66,40 @@ struct btOpenCLConstraintSolver::Impl {
     btocl::DeviceSolver device;
     btocl::DeviceBatcher batcher;
     btocl::StepGatherer gatherer;
+    std::unique_ptr<btocl::SequentialFallback> fallback;  // with fallbackToBullet
     btOpenCLSolverStats stats;
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
     double msGatherCalls = 0;  // time spent gathering inside this step's solveGroup calls
 
-    // After an error: the bodies gathered so far released, the step and its bracket over.
+    // After an error: what is queued finished (it reads and writes the step's host vectors), the
+    // bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
+        runtime.drain();
         if (gathering) gatherer.releaseBodies();
         gathering = false;
         inStep = false;
+    }
+
+    // Bullet's arrays of a solveGroup call, for Bullet's solver should the step fail.
+    void keepForFallback(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
+                         btTypedConstraint** constraints, int numConstraints, const btContactSolverInfo& info,
+                         btIDebugDraw* debugDrawer, btDispatcher* dispatcher) {
+        if (!fallback) return;
+        if (!gathering) fallback->clear();
+        fallback->keep(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer,
+                       dispatcher);
+    }
+
+    // The failed step solved by Bullet's solver instead (the world is as it was before the step).
+    void solveWithBullet(const std::string& reason, const StageTimer& timer) {
+        fallback->solve();
+        btOpenCLSolverStats s;
+        s.solvedByBullet = true;
+        s.numFallbackSteps = stats.numFallbackSteps + 1;
+        s.lastFallbackReason = reason;
+        s.msTotal = msGatherCalls + timer.total();
+        stats = s;
     }
 
     void gather(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
@@ -146,13 +172,20 @@ struct btOpenCLConstraintSolver::Impl {
             s.msWriteback = timer.lap();
 
             fillCounts(s, p);
+        } catch (const btOpenCLSolverError& e) {
+            abandonStep();  // leave the world as it was before the step's solve
+            // Bad input is the caller's to fix; what failed on our side, Bullet's solver can do.
+            if (!fallback || dynamic_cast<const btocl::InputError*>(&e)) throw;
+            solveWithBullet(e.what(), timer);
+            return;
         } catch (...) {
-            runtime.drain();  // what is queued still reads and writes the step's host vectors
-            abandonStep();    // leave the world as it was before the step's solve
+            abandonStep();
             throw;
         }
         gathering = false;
         s.msTotal = msGatherCalls + timer.total();
+        s.numFallbackSteps = stats.numFallbackSteps;
+        s.lastFallbackReason = stats.lastFallbackReason;
         stats = s;
     }
 
@@ -177,7 +210,8 @@ void btOpenCLConstraintSolver::prepareSolve(int, int) {
 btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int numBodies,
                                               btPersistentManifold** manifolds, int numManifolds,
                                               btTypedConstraint** constraints, int numConstraints,
-                                              const btContactSolverInfo& info, btIDebugDraw*, btDispatcher*) {
+                                              const btContactSolverInfo& info, btIDebugDraw* debugDrawer,
+                                              btDispatcher* dispatcher) {
     Impl& impl = *m_impl;
     try {
         btocl::checkSolveGroupArguments(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints);
@@ -187,6 +221,8 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
             if (constraints[i]->isEnabled())
                 throw btOpenCLSolverError("btOpenCLConstraintSolver: joints (btTypedConstraint) are not supported yet; "
                                           "remove them from the world or use btSequentialImpulseConstraintSolver");
+        impl.keepForFallback(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer,
+                             dispatcher);
         impl.gather(bodies, numBodies, manifolds, numManifolds, info);
     } catch (...) {
         impl.abandonStep();

@@ -233,3 +233,86 @@ TEST_CASE("what a failed step queued is finished before the solver's memory goes
         CHECK(boxes[123]->getLinearVelocity() == before);
     }
 }
+
+namespace {
+
+btOpenCLSolverConfig fallingBack() {
+    btOpenCLSolverConfig c = validatingConfig();
+    c.fallbackToBullet = true;
+    return c;
+}
+
+// Bodies' transforms and velocities, bitwise.
+std::vector<unsigned char> stateOf(const World& w) {
+    std::vector<unsigned char> out;
+    for (const btRigidBody* b : w.bodies())
+        for (const void* field : {static_cast<const void*>(&b->getWorldTransform()),
+                                  static_cast<const void*>(&b->getLinearVelocity()),
+                                  static_cast<const void*>(&b->getAngularVelocity())}) {
+            const size_t n = field == &b->getWorldTransform() ? sizeof(btTransform) : sizeof(btVector3);
+            out.insert(out.end(), static_cast<const unsigned char*>(field), static_cast<const unsigned char*>(field) + n);
+        }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("with fallbackToBullet, steps our solver fails are solved by Bullet's solver, bitwise as Bullet's own",
+          "[errors][failed-step][fallback]") {
+    NoFaultsAfter cleanup;
+    World ours(SolverKind::OpenCL, fallingBack()), bullets(SolverKind::Reference);
+    for (World* w : {&ours, &bullets}) groundAndPile(*w, 64);
+    btocl::injectDeviceFault(1, true);  // every OpenCL check fails: every step falls back
+    for (int s = 0; s < 60; ++s) {
+        INFO("step " << s);
+        ours.step();
+        bullets.step();
+        REQUIRE(stateOf(ours) == stateOf(bullets));
+    }
+    btocl::injectDeviceFault(0);
+    const btOpenCLSolverStats& stats = ours.openCL()->getLastStats();
+    CHECK(stats.solvedByBullet);
+    CHECK(stats.numFallbackSteps == 60);
+    CHECK(stats.lastFallbackReason.find("CL_OUT_OF_RESOURCES") != std::string::npos);
+    CHECK(stats.msTotal > 0);
+    // The device works again: our solver takes the steps back, the count stays.
+    ours.step();
+    CHECK_FALSE(ours.openCL()->getLastStats().solvedByBullet);
+    CHECK(ours.openCL()->getLastStats().numContactPoints > 0);
+    CHECK(ours.openCL()->getLastStats().numFallbackSteps == 60);
+}
+
+TEST_CASE("fallbackToBullet does not hide bad input", "[errors][failed-step][fallback]") {
+    World w(SolverKind::OpenCL, fallingBack());
+    groundAndPile(w, 20);
+    for (int s = 0; s < 5; ++s) w.step();
+    w.body(3)->setAngularVelocity(btVector3(0, std::numeric_limits<btScalar>::quiet_NaN(), 0));
+    CHECK_THROWS_WITH(w.step(), Catch::Contains("angular velocity") && Catch::Contains("index 3 of"));
+    CHECK(w.openCL()->getLastStats().numFallbackSteps == 0);
+}
+
+TEST_CASE("a caller who catches a failed step and calls clearForces() steps on as if it had not happened",
+          "[errors][failed-step]") {
+    // stepSimulation skips clearForces() when the solver throws: without the call the next step
+    // applies gravity twice (the header and the README say so).
+    NoFaultsAfter cleanup;
+    World failing(SolverKind::OpenCL), healthy(SolverKind::OpenCL), forgetful(SolverKind::OpenCL);
+    for (World* w : {&failing, &healthy, &forgetful}) {
+        groundAndPile(*w, 20);
+        for (int s = 0; s < 20; ++s) w->step();
+    }
+    for (World* w : {&failing, &forgetful}) {
+        btocl::injectDeviceFault(40);
+        CHECK_THROWS_AS(w->step(), btOpenCLSolverError);
+        btocl::injectDeviceFault(0);
+    }
+    failing.dyn().clearForces();
+    for (int s = 0; s < 20; ++s) {
+        failing.step();
+        healthy.step();
+        forgetful.step();
+    }
+    CHECK(stateOf(failing) == stateOf(healthy));
+    // Without clearForces() a box of the upper layer, resting, took a double gravity impulse.
+    CHECK(stateOf(forgetful) != stateOf(healthy));
+}

@@ -15,7 +15,11 @@
 #include <string>
 
 // Every error the solver reports: no device, a kernel build failure (with the compiler's log),
-// a device error mid-step, non-finite input from the world, sizes past the device's limits.
+// a device error mid-step, non-finite input from the world (named: a setting by its field, a
+// body by its world index), sizes past the device's limits. A step that throws has changed
+// nothing in the world, and the solver steps on. btDiscreteDynamicsWorld::stepSimulation skips
+// its clearForces() when the step throws: a caller who catches and steps on calls
+// world.clearForces() first, or the forces (gravity too) of the failed step count twice.
 class btOpenCLSolverError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
@@ -27,6 +31,10 @@ struct btOpenCLSolverConfig {
     int batchIterations = 4;  // locking rounds per streamed chunk (the paper's 4)
     int workGroupSize = 64;   // lanes per work-group
     bool validate = false;    // check the split and batch invariants every step (tests use it)
+    // A step our solver fails to run (a device error, buffers past the device's limits) is solved
+    // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
+    // input (non-finite values, negative counts) and joints still throw.
+    bool fallbackToBullet = false;
 };
 
 // What the last step did. Phase times are host wall-clock milliseconds of each stage, waits for
@@ -47,6 +55,9 @@ struct btOpenCLSolverStats {
     double msTotal = 0;      // from the first solveGroup to the end of allSolved, gathering included
     int numIterationsRun = 0;
     std::string lastValidationMessage;  // first invariant failure of the last step, if any
+    bool solvedByBullet = false;        // fallbackToBullet solved this step (of the above, only msTotal is set)
+    int numFallbackSteps = 0;           // steps solved that way so far, by this solver
+    std::string lastFallbackReason;     // why the latest of them was: our solver's error
 };
 
 class btOpenCLConstraintSolver : public btConstraintSolver {
