@@ -92,8 +92,12 @@ std::string describeDevices(const std::vector<DeviceEntry>& devices) {
 
 DeviceEntry selectDevice(const std::string& specIn) {
     std::string spec = trim(specIn);
+    bool fromEnvironment = false;
     if (spec.empty())
-        if (const char* env = std::getenv("BT_OPENCL_DEVICE")) spec = trim(env);
+        if (const char* env = std::getenv("BT_OPENCL_DEVICE")) {
+            spec = trim(env);
+            fromEnvironment = true;
+        }
     const std::vector<DeviceEntry> devices = listDevices();
     if (devices.empty())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device found.\n" + describeDevices(devices));
@@ -124,8 +128,11 @@ DeviceEntry selectDevice(const std::string& specIn) {
             }
     }
     if (!found)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device matches '" + spec +
-                                  "'. Devices there are:\n" + describeDevices(devices) +
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device matches '" + spec + "' (" +
+                                  (fromEnvironment ? "the environment variable BT_OPENCL_DEVICE, read because "
+                                                     "btOpenCLSolverConfig::device is empty"
+                                                   : "btOpenCLSolverConfig::device") +
+                                  "). Devices there are:\n" + describeDevices(devices) +
                                   "Choose one by index, by 'gpu' or 'cpu', or by part of its name.");
     return *found;
 }

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <functional>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -297,4 +298,31 @@ TEST_CASE("a disabled joint is skipped, as Bullet's solver skips it", "[input][j
     }
     CHECK(without[1].getOrigin().y() < btScalar(0.6));  // it fell and landed
     CHECK_THROWS_WITH(run(true, true), Catch::Contains("joints"));
+}
+
+TEST_CASE("a device name that matches nothing is reported with where it came from", "[errors][device]") {
+    const char* was = std::getenv("BT_OPENCL_DEVICE");
+    const std::string saved = was ? was : "";
+    setenv("BT_OPENCL_DEVICE", "no-such-device-xyz", 1);
+    std::string fromEnv, fromConfig;
+    try {
+        btOpenCLConstraintSolver solver;  // config.device empty: the environment decides
+    } catch (const btOpenCLSolverError& e) {
+        fromEnv = e.what();
+    }
+    btOpenCLSolverConfig config;
+    config.device = "no-such-device-abc";
+    try {
+        btOpenCLConstraintSolver solver(config);
+    } catch (const btOpenCLSolverError& e) {
+        fromConfig = e.what();
+    }
+    if (was)
+        setenv("BT_OPENCL_DEVICE", saved.c_str(), 1);
+    else
+        unsetenv("BT_OPENCL_DEVICE");
+    INFO("from the environment: " << fromEnv << "\nfrom the config: " << fromConfig);
+    CHECK(fromEnv.find("'no-such-device-xyz' (the environment variable BT_OPENCL_DEVICE") != std::string::npos);
+    CHECK(fromConfig.find("'no-such-device-abc' (btOpenCLSolverConfig::device)") != std::string::npos);
+    CHECK(fromConfig.find("BT_OPENCL_DEVICE") == std::string::npos);
 }
