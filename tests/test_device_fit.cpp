@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <climits>
+#include <string>
 
 using namespace btocl;
 
@@ -31,6 +32,14 @@ DeviceLimits roomy() {
     return l;
 }
 
+// Bytes of one element of the named buffer.
+size_t elementSize(const char* name, const StepCounts& c = pileCounts()) {
+    for (const StepBuffer& b : stepBuffers(c))
+        if (std::string(b.name) == name) return b.elementSize;
+    FAIL("no buffer named " << name);
+    return 0;
+}
+
 size_t totalBytes(const StepCounts& c) {
     size_t total = 0;
     for (const StepBuffer& b : stepBuffers(c)) total += b.bytes();
@@ -41,26 +50,28 @@ size_t totalBytes(const StepCounts& c) {
 
 TEST_CASE("a step within the device's limits passes the fit check", "[device-fit]") {
     REQUIRE_NOTHROW(checkStepFitsDevice(pileCounts(), roomy()));
-    // The rows are the largest buffer of a contact step: 128 bytes each.
+    // The rows are the largest buffer of a contact step.
     DeviceLimits l = roomy();
-    l.maxAlloc = pileCounts().rows * sizeof(btoclRow);
+    l.maxAlloc = pileCounts().rows * elementSize("rows");
     REQUIRE_NOTHROW(checkStepFitsDevice(pileCounts(), l));
 }
 
 TEST_CASE("a buffer past the largest allocation is named with its bytes and the limit", "[device-fit][errors]") {
     DeviceLimits l = roomy();
-    l.maxAlloc = pileCounts().rows * sizeof(btoclRow) - 1;
+    const size_t rowBytes = pileCounts().rows * elementSize("rows");
+    l.maxAlloc = rowBytes - 1;
     CHECK_THROWS_WITH(checkStepFitsDevice(pileCounts(), l),
-                      Catch::Contains("a test device") && Catch::Contains("the rows buffer needs 4608000 bytes") &&
-                          Catch::Contains("CL_DEVICE_MAX_MEM_ALLOC_SIZE = 4607999"));
+                      Catch::Contains("a test device") &&
+                          Catch::Contains("the rows buffer needs " + std::to_string(rowBytes) + " bytes") &&
+                          Catch::Contains("CL_DEVICE_MAX_MEM_ALLOC_SIZE = " + std::to_string(rowBytes - 1)));
     // Rows set up on the host travel in a buffer of their own.
     StepCounts host = pileCounts();
     host.rowsOnDevice = false;
-    l.maxAlloc = host.rows * sizeof(btoclRow);
+    l.maxAlloc = host.rows * elementSize("rows set up on the host", host);
     REQUIRE_NOTHROW(checkStepFitsDevice(host, l));
     host.rows += 1;
     CHECK_THROWS_WITH(checkStepFitsDevice(host, l), Catch::Contains("rows"));
-    // Contact points: 144 bytes each, with rows set up on the device.
+    // Contact points, with rows set up on the device.
     StepCounts points = pileCounts();
     l.maxAlloc = points.points * sizeof(btoclContactPoint) - 1;
     points.rows = 1;

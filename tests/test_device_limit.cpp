@@ -10,6 +10,7 @@
 
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 using namespace testworld;
@@ -74,9 +75,13 @@ TEST_CASE("a step past the device's largest allocation is refused before its fir
     const btocl::DeviceLimits limits = btocl::deviceLimitsOf(btocl::OclRuntime(""));
     INFO("CL_DEVICE_MAX_MEM_ALLOC_SIZE = " << limits.maxAlloc << " (this test runs under POCL_MEMORY_LIMIT=1)");
     REQUIRE(limits.maxAlloc <= (size_t(256) << 20));
-    // A normal, two friction and three rolling rows a point, of 128 bytes each: a few more points
-    // than the rows buffer fits.
-    HandMadeContacts scene(limits.maxAlloc / (6 * sizeof(btoclRow)) + 4000);
+    // A normal, two friction and three rolling rows a point: a few more points than the rows
+    // buffer fits.
+    size_t rowSize = 0;
+    for (const btocl::StepBuffer& b : btocl::stepBuffers(btocl::StepCounts{}))
+        if (std::string(b.name) == "rows") rowSize = b.elementSize;
+    REQUIRE(rowSize > 0);
+    HandMadeContacts scene(limits.maxAlloc / (6 * rowSize) + 4000);
 
     auto ours = std::make_unique<btOpenCLConstraintSolver>();
     btocl::injectDeviceFault(std::numeric_limits<long>::max());  // counts OpenCL checks, fails none
