@@ -2,6 +2,7 @@
 
 #include "BulletConversions.h"
 #include "HostRowSetup.h"
+#include "InputChecks.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
@@ -38,13 +39,6 @@ void prefetchPoints(const btPersistentManifold* m) {
     const char* first = reinterpret_cast<const char*>(&m->getContactPoint(0));
     const char* end = reinterpret_cast<const char*>(&m->getContactPoint(n - 1)) + sizeof(btManifoldPoint);
     for (const char* a = first; a < end; a += 64) __builtin_prefetch(a);
-}
-
-void checkPoint(const btManifoldPoint& cp) {
-    if (!isFinite(cp.getPositionWorldOnA()) || !isFinite(cp.getPositionWorldOnB()) || !isFinite(cp.m_normalWorldOnB) ||
-        !std::isfinite(cp.getDistance()))
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: a contact point has a non-finite position, normal "
-                                  "or distance");
 }
 
 bool hasAnisotropicFriction(const btCollisionObject* o) {
@@ -102,11 +96,8 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
 // SI's initSolverBody and the external impulses of convertBodies.
 int StepGatherer::addSolverBody(btRigidBody* rb) {
     const btScalar dt = m_info.m_timeStep;
+    checkRigidBody(*rb);
     const btTransform& xf = rb->getWorldTransform();
-    if (!isFinite(xf.getOrigin()) || !isFinite(rb->getLinearVelocity()) || !isFinite(rb->getAngularVelocity()) ||
-        !isFinite(rb->getTotalForce()) || !isFinite(rb->getTotalTorque()))
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: a rigid body has a non-finite position, velocity or force "
-                                  "(body at index " + std::to_string(rb->getWorldArrayIndex()) + " of the world)");
 
     btoclBody b{};
     const btScalar invMass = rb->getInvMass();
@@ -207,6 +198,7 @@ void StepGatherer::packManifold(btPersistentManifold* manifold) {
     StepProblem& p = m_problem;
     // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
     if (toVector3(p.bodies[idA].invMass).fuzzyZero() && toVector3(p.bodies[idB].invMass).fuzzyZero()) return;
+    checkManifold(*manifold, m_info);  // every point before the first is packed
     btoclConstraint c{};
     c.bodyA = idA;
     c.bodyB = idB;
@@ -221,7 +213,6 @@ void StepGatherer::packManifold(btPersistentManifold* manifold) {
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
         if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
-        checkPoint(cp);
         // As btoclNormalRow decides (a share needs a penetration, and one past the threshold).
         const btScalar penetration = cp.getDistance() + m_info.m_linearSlop;
         if (m_info.m_splitImpulse && penetration < 0 && !(penetration > m_info.m_splitImpulsePenetrationThreshold))

@@ -24,13 +24,13 @@ enum class RowSetup { Device, Host };
 class StepGatherer {
 public:
     void begin(const btContactSolverInfo& info, RowSetup setup = RowSetup::Device);
-    // Throws btOpenCLSolverError on a body with a non-finite state, naming its world index.
+    // Throws InputError (InputChecks.h) on a body with a non-finite state, naming its world index.
     void addBodies(btCollisionObject* const* bodies, int numBodies);
     void addManifolds(btPersistentManifold* const* manifolds, int numManifolds);
     // Joints (btTypedConstraint); disabled ones take no rows, as with SI.
     void addJoints(btTypedConstraint* const* joints, int numJoints);
     // Packs every manifold's points (and, for host setup, sets the rows up) and returns the
-    // finished problem. Throws btOpenCLSolverError on a non-finite contact point.
+    // finished problem. Throws InputError on a non-finite contact point.
     StepProblem& finish();
     // Returns every body's companion id to -1 (Bullet's "not in a solver").
     void releaseBodies();

@@ -1,6 +1,7 @@
 #include "JointRows.h"
 
 #include "BulletConversions.h"
+#include "InputChecks.h"
 #include "btOpenCLConstraintSolver.h"
 #include "row_setup.h"
 #include "row_solve.h"
@@ -190,8 +191,8 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
             btoclRow r = btoclJointRow(rowFromJoint(scratch[k], j.bodyA, j.bodyB), &A, &B, damping,
                                        j.breakingImpulseThreshold);
             if (!isFiniteRow(r))
-                throw btOpenCLSolverError("btOpenCLConstraintSolver: joint " + std::to_string(i) +
-                                          " of the step has a non-finite row (its frames, limits or bodies)");
+                throw InputError("btOpenCLConstraintSolver: joint " + std::to_string(i) +
+                                 " of the step has a non-finite row (its frames, limits or bodies)");
             BTOCL_ROW_ITERATIONS(r) = j.numIterations;
             // The solve keeps one linear Jacobian per row (btoclSolveRow): refuse a joint it would misread.
             if (!btoclRowFitsSolveRecord(r, BTOCL_BODY_IS_DYNAMIC(A) != 0.0f, BTOCL_BODY_IS_DYNAMIC(B) != 0.0f))

@@ -1,5 +1,6 @@
 #include "OclRuntime.h"
 
+#include "FaultInjection.h"
 #include "KernelSources.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -53,6 +54,7 @@ const char* clErrorName(cl_int err) {
 }
 
 void checkCl(cl_int err, const char* what) {
+    err = injectedResult(err);
     if (err == CL_SUCCESS) return;
     std::ostringstream ss;
     ss << "btOpenCLConstraintSolver: " << what << " failed: " << clErrorName(err) << " (" << err << ")";
@@ -90,8 +92,12 @@ std::string describeDevices(const std::vector<DeviceEntry>& devices) {
 
 DeviceEntry selectDevice(const std::string& specIn) {
     std::string spec = trim(specIn);
+    bool fromEnvironment = false;
     if (spec.empty())
-        if (const char* env = std::getenv("BT_OPENCL_DEVICE")) spec = trim(env);
+        if (const char* env = std::getenv("BT_OPENCL_DEVICE")) {
+            spec = trim(env);
+            fromEnvironment = true;
+        }
     const std::vector<DeviceEntry> devices = listDevices();
     if (devices.empty())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device found.\n" + describeDevices(devices));
@@ -122,8 +128,11 @@ DeviceEntry selectDevice(const std::string& specIn) {
             }
     }
     if (!found)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device matches '" + spec +
-                                  "'. Devices there are:\n" + describeDevices(devices) +
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: no OpenCL device matches '" + spec + "' (" +
+                                  (fromEnvironment ? "the environment variable BT_OPENCL_DEVICE, read because "
+                                                     "btOpenCLSolverConfig::device is empty"
+                                                   : "btOpenCLSolverConfig::device") +
+                                  "). Devices there are:\n" + describeDevices(devices) +
                                   "Choose one by index, by 'gpu' or 'cpu', or by part of its name.");
     return *found;
 }
@@ -202,6 +211,8 @@ void OclRuntime::launch(const cl::Kernel& kernel, size_t items, size_t local, co
 }
 
 void OclRuntime::finish(const char* what) const { checkCl(m_queue.finish(), what); }
+
+void OclRuntime::drain() const noexcept { m_queue.finish(); }
 
 double eventMs(const cl::Event& event) {
     if (!event()) return 0;

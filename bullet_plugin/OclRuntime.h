@@ -82,6 +82,9 @@ public:
 
     // Waits for the queue; turns an asynchronous device error into an exception.
     void finish(const char* what) const;
+    // Waits for the queue and ignores its errors: on an error path, before the host memory that
+    // queued copies read or write is freed or reused.
+    void drain() const noexcept;
 
 private:
     cl::Device m_device;

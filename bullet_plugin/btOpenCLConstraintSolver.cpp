@@ -2,11 +2,16 @@
 
 #include "LayoutValidator.h"
 #include "DeviceBatcher.h"
+#include "DeviceFit.h"
 #include "DeviceSolver.h"
+#include "InputChecks.h"
 #include "OclRuntime.h"
 #include "SolveSettings.h"
+#include "BulletFallback.h"
 #include "BulletGather.h"
 #include "StepWriteBack.h"
+
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -61,8 +66,12 @@ struct btOpenCLConstraintSolver::Impl {
           // The wide path takes the sort and scan a GPU gets, on any device.
           primitives(runtime, wide() ? btocl::DevicePrimitives::Backend::BoostCompute
                                      : btocl::DevicePrimitives::Backend::Chunked),
+          limits(btocl::deviceLimitsOf(runtime)),
           device(runtime, primitives, wide() ? c.workGroupSize : 1),
-          batcher(runtime, primitives) {}
+          batcher(runtime, primitives),
+          fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {}
+    // Nothing queued may outlive the host memory it reads: the step's vectors die with this.
+    ~Impl() { runtime.drain(); }
 
     static const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
         if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
@@ -79,19 +88,44 @@ struct btOpenCLConstraintSolver::Impl {
     btocl::OclRuntime runtime;
     btOpenCLSolvePath path;
     btocl::DevicePrimitives primitives;
+    btocl::DeviceLimits limits;
     btocl::DeviceSolver device;
     btocl::DeviceBatcher batcher;
     btocl::StepGatherer gatherer;
+    std::unique_ptr<btocl::SequentialFallback> fallback;  // with fallbackToBullet
     btOpenCLSolverStats stats;
     bool inStep = false;       // between prepareSolve and allSolved
     bool gathering = false;    // solveGroup has begun gathering this step
     double msGatherCalls = 0;  // time spent gathering inside this step's solveGroup calls
 
-    // After an error: the bodies gathered so far released, the step and its bracket over.
+    // After an error: what is queued finished (it reads and writes the step's host vectors), the
+    // bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
+        runtime.drain();
         if (gathering) gatherer.releaseBodies();
         gathering = false;
         inStep = false;
+    }
+
+    // Bullet's arrays of a solveGroup call, for Bullet's solver should the step fail.
+    void keepForFallback(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
+                         btTypedConstraint** constraints, int numConstraints, const btContactSolverInfo& info,
+                         btIDebugDraw* debugDrawer, btDispatcher* dispatcher) {
+        if (!fallback) return;
+        if (!gathering) fallback->clear();
+        fallback->keep(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer,
+                       dispatcher);
+    }
+
+    // The failed step solved by Bullet's solver instead (the world is as it was before the step).
+    void solveWithBullet(const std::string& reason, const StageTimer& timer) {
+        fallback->solve();
+        btOpenCLSolverStats s;
+        s.solvedByBullet = true;
+        s.numFallbackSteps = stats.numFallbackSteps + 1;
+        s.lastFallbackReason = reason;
+        s.msTotal = msGatherCalls + timer.total();
+        stats = s;
     }
 
     void gather(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds, int numManifolds,
@@ -120,6 +154,7 @@ struct btOpenCLConstraintSolver::Impl {
             btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.rotatePoints);
             settings.maxIterations = p.maxIterations(settings.numIterations);
             s.msGather = msGatherCalls + timer.lap();
+            btocl::checkStepFitsDevice(btocl::countsOf(p), limits);  // before the first enqueue
 
             // The device's part: enqueued without waits but for the split's group counts, timed by
             // profiling events per phase, waited for once at the read-back.
@@ -165,12 +200,20 @@ struct btOpenCLConstraintSolver::Impl {
             s.deviceBytes = double(runtime.bufferBytes());
 
             fillCounts(s, p);
-        } catch (...) {
+        } catch (const btOpenCLSolverError& e) {
             abandonStep();  // leave the world as it was before the step's solve
+            // Bad input is the caller's to fix; what failed on our side, Bullet's solver can do.
+            if (!fallback || dynamic_cast<const btocl::InputError*>(&e)) throw;
+            solveWithBullet(e.what(), timer);
+            return;
+        } catch (...) {
+            abandonStep();
             throw;
         }
         gathering = false;
         s.msTotal = msGatherCalls + timer.total();
+        s.numFallbackSteps = stats.numFallbackSteps;
+        s.lastFallbackReason = stats.lastFallbackReason;
         stats = s;
     }
 
@@ -212,14 +255,14 @@ void btOpenCLConstraintSolver::prepareSolve(int, int) {
 btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int numBodies,
                                               btPersistentManifold** manifolds, int numManifolds,
                                               btTypedConstraint** constraints, int numConstraints,
-                                              const btContactSolverInfo& info, btIDebugDraw*, btDispatcher*) {
+                                              const btContactSolverInfo& info, btIDebugDraw* debugDrawer,
+                                              btDispatcher* dispatcher) {
     Impl& impl = *m_impl;
-    if (!(info.m_timeStep > 0) || info.m_numIterations < 0) {
-        impl.abandonStep();
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: the time step must be positive and the iteration count "
-                                  "not negative");
-    }
     try {
+        btocl::checkSolveGroupArguments(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints);
+        btocl::checkSolverInfo(info);
+        impl.keepForFallback(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer,
+                             dispatcher);
         impl.gather(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info);
     } catch (...) {
         impl.abandonStep();

@@ -1,6 +1,15 @@
 # Compile settings shared by every target of ours (library, demos, tests), in one place.
+option(BTOCL_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer (UB stops the program)" OFF)
+
 function(btocl_target_defaults target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-ignored-attributes)
   # Boost.Compute: stay within OpenCL 1.2, as the kernels do.
   target_compile_definitions(${target} PRIVATE BOOST_COMPUTE_MAX_CL_VERSION=102)
+  if(BTOCL_SANITIZE)
+    target_compile_options(${target} PRIVATE
+      -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+    # PUBLIC: whatever links a sanitized static library needs the sanitizers' runtimes too (the
+    # installed package passes this on to its consumers).
+    target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+  endif()
 endfunction()

@@ -15,7 +15,11 @@
 #include <string>
 
 // Every error the solver reports: no device, a kernel build failure (with the compiler's log),
-// a device error mid-step, non-finite input from the world, sizes past the device's limits.
+// a device error mid-step, non-finite input from the world (named: a setting by its field, a
+// body by its world index), sizes past the device's limits. A step that throws has changed
+// nothing in the world, and the solver steps on. btDiscreteDynamicsWorld::stepSimulation skips
+// its clearForces() when the step throws: a caller who catches and steps on calls
+// world.clearForces() first, or the forces (gravity too) of the failed step count twice.
 class btOpenCLSolverError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
@@ -42,6 +46,10 @@ struct btOpenCLSolverConfig {
     // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
     // order, as Bullet's solver does.
     bool rotatePoints = false;
+    // A step our solver fails to run (a device error, buffers past the device's limits) is solved
+    // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
+    // input (non-finite values, negative counts) still throws.
+    bool fallbackToBullet = false;
 };
 
 // What the last step did. Times in milliseconds: the host's stages by the host's clock, the
@@ -71,6 +79,9 @@ struct btOpenCLSolverStats {
     // shrunk; the sort library's own scratch is not counted).
     double deviceBytes = 0;
     std::string lastValidationMessage;  // first invariant failure of the last step, if any
+    bool solvedByBullet = false;        // fallbackToBullet solved this step (of the above, only msTotal is set)
+    int numFallbackSteps = 0;           // steps solved that way so far, by this solver
+    std::string lastFallbackReason;     // why the latest of them was: our solver's error
 };
 
 class btOpenCLConstraintSolver : public btConstraintSolver {
