@@ -22,8 +22,8 @@ StepCounts countsOf(const StepProblem& p) {
     c.constraints = p.constraints.size();
     c.points = p.points.size();
     c.frictionRows = size_t(p.numFrictionRows);
-    c.rows = p.rowsOnDevice ? size_t(p.numNormalRows) + size_t(p.numFrictionRows) + size_t(p.numRollingRows)
-                            : p.rows.size();
+    c.rows = size_t(p.numRows());
+    c.hostRows = p.rows.size();
     c.rowsOnDevice = p.rowsOnDevice;
     return c;
 }
@@ -37,11 +37,14 @@ std::vector<StepBuffer> stepBuffers(const StepCounts& c) {
         {"constraints", n, sizeof(btoclConstraint)},
         {"constraints in solve order", n, sizeof(btoclConstraint)},
         {"row offsets", n, sizeof(int)},
-        {"rows", c.rows, sizeof(btoclRow)},
+        {"friction row offsets", n, sizeof(int)},
+        {"rows", c.rows, sizeof(btoclSolveRow)},
         {"row map", c.rows, sizeof(int)},
+        {"normal row of each row", c.rows, sizeof(int)},
         {"applied impulses", c.rows, sizeof(float)},
         {"push impulses", c.rows, sizeof(float)},
-        {"impulses read back", c.points + c.frictionRows, sizeof(float)},
+        {"impulses read back", c.rows, sizeof(float)},
+        {"rows set up on the host", c.hostRows, sizeof(btoclRow)},
         // DeviceBatcher and its sort (DevicePrimitives)
         {"overflow flags", c.bodies, sizeof(cl_uchar)},
         {"split keys", n, sizeof(cl_uint)},
@@ -55,8 +58,6 @@ std::vector<StepBuffer> stepBuffers(const StepCounts& c) {
     if (c.rowsOnDevice) {
         b.push_back({"contact points", c.points, sizeof(btoclContactPoint)});
         b.push_back({"friction directions", 2 * c.points, sizeof(btoclFloat4)});
-    } else {
-        b.push_back({"rows set up on the host", c.rows, sizeof(btoclRow)});
     }
     return b;
 }

@@ -26,7 +26,8 @@ struct StepCounts {
     size_t constraints = 0;  // manifolds with points in reach
     size_t points = 0;       // contact points (= normal rows)
     size_t frictionRows = 0;
-    size_t rows = 0;         // normal, friction and rolling rows
+    size_t rows = 0;         // every row: normal, friction, rolling and joint rows
+    size_t hostRows = 0;     // rows set up on the host (the joints', or all where the host sets rows up)
     bool rowsOnDevice = true;
 };
 StepCounts countsOf(const StepProblem& p);

@@ -64,12 +64,13 @@ TEST_CASE("a buffer past the largest allocation is named with its bytes and the 
                       Catch::Contains("a test device") &&
                           Catch::Contains("the rows buffer needs " + std::to_string(rowBytes) + " bytes") &&
                           Catch::Contains("CL_DEVICE_MAX_MEM_ALLOC_SIZE = " + std::to_string(rowBytes - 1)));
-    // Rows set up on the host travel in a buffer of their own.
+    // Rows set up on the host travel in a buffer of their own, in their full record.
     StepCounts host = pileCounts();
     host.rowsOnDevice = false;
+    host.hostRows = host.rows;
     l.maxAlloc = host.rows * elementSize("rows set up on the host", host);
     REQUIRE_NOTHROW(checkStepFitsDevice(host, l));
-    host.rows += 1;
+    host.hostRows += 1;
     CHECK_THROWS_WITH(checkStepFitsDevice(host, l), Catch::Contains("rows"));
     // Contact points, with rows set up on the device.
     StepCounts points = pileCounts();
