@@ -1,6 +1,7 @@
 #include "BulletGather.h"
 
 #include "BulletConversions.h"
+#include "HostParallel.h"
 #include "HostRowSetup.h"
 #include "InputChecks.h"
 #include "btOpenCLConstraintSolver.h"
@@ -87,14 +88,16 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.manifoldPoints.clear();
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
     p.maySplitPenetration = false;
-    m_numFriction = m_numRolling = 0;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
 }
 
-// SI's initSolverBody and the external impulses of convertBodies.
-int StepGatherer::addSolverBody(btRigidBody* rb) {
+// SI's initSolverBody and the external impulses of convertBodies, for the body at `index`
+// (its slots made, its object in p.original).
+void StepGatherer::fillSolverBody(int index) {
+    StepProblem& p = m_problem;
+    btRigidBody* rb = p.original[size_t(index)];
     const btScalar dt = m_info.m_timeStep;
     checkRigidBody(*rb);
     const btTransform& xf = rb->getWorldTransform();
@@ -131,14 +134,27 @@ int StepGatherer::addSolverBody(btRigidBody* rb) {
         const btVector3 size = hi - lo;
         split.extent = float(size[size.maxAxis()]);
     }
+    p.bodies[size_t(index)] = b;
+    p.deltas[size_t(index)] = btoclBodyDelta{};
+    p.worldTransforms[size_t(index)] = xf;
+    p.splitBodies[size_t(index)] = split;
+}
 
+// Slots for the bodies named since the last call, then their records, in parallel.
+void StepGatherer::fillNewBodies() {
     StepProblem& p = m_problem;
-    const int index = int(p.bodies.size());
-    p.original.push_back(rb);
-    p.bodies.push_back(b);
-    p.deltas.push_back(btoclBodyDelta{});
-    p.worldTransforms.push_back(xf);
-    p.splitBodies.push_back(split);
+    const size_t first = p.bodies.size(), end = p.original.size();
+    p.bodies.resize(end);
+    p.deltas.resize(end);
+    p.worldTransforms.resize(end);
+    p.splitBodies.resize(end);
+    parallelFor(end - first, [&](size_t i) { fillSolverBody(int(first + i)); });
+}
+
+// Names the solver body of a rigid body; its record is filled by fillNewBodies.
+int StepGatherer::nameSolverBody(btRigidBody* rb) {
+    const int index = int(m_problem.original.size());
+    m_problem.original.push_back(rb);
     rb->setCompanionId(index);
     return index;
 }
@@ -146,15 +162,23 @@ int StepGatherer::addSolverBody(btRigidBody* rb) {
 // SI's getOrInitSolverBody: dynamic and kinematic rigid bodies get their own solver body, every
 // other object maps to the fixed body.
 int StepGatherer::solverBodyOf(btCollisionObject* object) {
+    const int id = namedBodyOf(object);
+    if (id > 0 && size_t(id) >= m_problem.bodies.size()) fillNewBodies();
+    return id;
+}
+
+int StepGatherer::namedBodyOf(btCollisionObject* object) {
     const int id = object->getCompanionId();
     if (id > 0 && id < int(m_problem.original.size()) && m_problem.original[id] == object) return id;
     btRigidBody* rb = btRigidBody::upcast(object);
-    if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) return addSolverBody(rb);
+    if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) return nameSolverBody(rb);
     return 0;
 }
 
 void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
-    for (int i = 0; i < numBodies; ++i) solverBodyOf(bodies[i]);
+    // Indices in SI's order on this thread, then the records in parallel.
+    for (int i = 0; i < numBodies; ++i) namedBodyOf(bodies[i]);
+    fillNewBodies();
 }
 
 void StepGatherer::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
@@ -189,26 +213,46 @@ void StepGatherer::addJointRows() {
     p.rows.insert(p.rows.end(), p.joints.rows.begin(), p.joints.rows.end());
 }
 
-// SI's convertContact: the points of a manifold in reach, as records for kernels/setup.cl. Row
-// counts are known here: one normal row, one or two friction rows, three rolling rows when
-// rolling friction is on (the host setup may drop rolling rows; HostRowSetup.h).
-void StepGatherer::packManifold(btPersistentManifold* manifold) {
-    const int idA = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody0()));
-    const int idB = solverBodyOf(const_cast<btCollisionObject*>(manifold->getBody1()));
+// Checks a manifold's points (each one before any is packed) and counts those in reach.
+void StepGatherer::countPoints(size_t m) {
+    ManifoldSlot& slot = m_slots[m];
+    if (!slot.solved) return;
+    const btPersistentManifold& manifold = *m_manifolds[m];
+    checkManifold(manifold, m_info);
+    slot.numPoints = slot.numRolling = 0;
+    for (int j = 0; j < manifold.getNumContacts(); ++j) {
+        const btManifoldPoint& cp = manifold.getContactPoint(j);
+        if (cp.getDistance() > manifold.getContactProcessingThreshold()) continue;
+        ++slot.numPoints;
+        if (cp.m_combinedRollingFriction > 0) ++slot.numRolling;
+    }
+}
+
+// SI's convertContact: the points of a manifold in reach, as records for kernels/setup.cl, at
+// the places the slot was given. Rows are one normal row a point, one or two friction rows,
+// three rolling rows when rolling friction is on (the host setup may drop rolling rows;
+// HostRowSetup.h), in gather order: all normal rows, then friction, then rolling rows.
+void StepGatherer::packManifold(size_t m) {
+    ManifoldSlot& slot = m_slots[m];
+    if (slot.constraint < 0) return;
+    btPersistentManifold* manifold = m_manifolds[m];
     StepProblem& p = m_problem;
-    // No response between two bodies that cannot move (SI tests the inverse-mass vectors).
-    if (toVector3(p.bodies[idA].invMass).fuzzyZero() && toVector3(p.bodies[idB].invMass).fuzzyZero()) return;
-    checkManifold(*manifold, m_info);  // every point before the first is packed
+    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    const int frictionBase = p.numNormalRows, rollingBase = p.numNormalRows + p.numFrictionRows;
+    const int idA = slot.bodyA, idB = slot.bodyB;
     btoclConstraint c{};
     c.bodyA = idA;
     c.bodyB = idB;
     c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
     c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
-    c.firstRow[BTOCL_ROWS_NORMAL] = int(p.points.size());
-    c.firstRow[BTOCL_ROWS_FRICTION] = m_numFriction;
-    c.firstRow[BTOCL_ROWS_ROLLING] = m_numRolling;
+    c.firstRow[BTOCL_ROWS_NORMAL] = slot.firstPoint;
+    c.firstRow[BTOCL_ROWS_FRICTION] = frictionBase + slot.firstFriction;
+    c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + slot.firstRolling;
+    c.numRows[BTOCL_ROWS_NORMAL] = slot.numPoints;
+    c.numRows[BTOCL_ROWS_FRICTION] = slot.numPoints * frictionRows;
+    c.numRows[BTOCL_ROWS_ROLLING] = slot.numRolling * 3;
 
-    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    int point = slot.firstPoint, friction = c.firstRow[BTOCL_ROWS_FRICTION], rolling = c.firstRow[BTOCL_ROWS_ROLLING];
     btVector3 pointSum(0, 0, 0);
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
@@ -216,7 +260,7 @@ void StepGatherer::packManifold(btPersistentManifold* manifold) {
         // As btoclNormalRow decides (a share needs a penetration, and one past the threshold).
         const btScalar penetration = cp.getDistance() + m_info.m_linearSlop;
         if (m_info.m_splitImpulse && penetration < 0 && !(penetration > m_info.m_splitImpulsePenetrationThreshold))
-            p.maySplitPenetration = true;
+            slot.maySplit = true;
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
         pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());
@@ -235,20 +279,65 @@ void StepGatherer::packManifold(btPersistentManifold* manifold) {
         pt.bodyA = idA;
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
-        pt.firstFrictionRow = m_numFriction;
-        pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? m_numRolling : -1;
-        p.points.push_back(pt);
-        p.manifoldPoints.push_back(&cp);
-        m_numFriction += frictionRows;
-        if (pt.firstRollingRow >= 0) m_numRolling += 3;
+        pt.firstFrictionRow = friction;
+        pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
+        p.points[size_t(point)] = pt;
+        p.manifoldPoints[size_t(point)] = &cp;
+        ++point;
+        friction += frictionRows;
+        if (pt.firstRollingRow >= 0) rolling += 3;
     }
-    c.numRows[BTOCL_ROWS_NORMAL] = int(p.points.size()) - c.firstRow[BTOCL_ROWS_NORMAL];
-    c.numRows[BTOCL_ROWS_FRICTION] = m_numFriction - c.firstRow[BTOCL_ROWS_FRICTION];
-    c.numRows[BTOCL_ROWS_ROLLING] = m_numRolling - c.firstRow[BTOCL_ROWS_ROLLING];
-    if (c.numRows[BTOCL_ROWS_NORMAL] == 0) return;
-    c.position = toFloat4(pointSum / btScalar(c.numRows[BTOCL_ROWS_NORMAL]));
-    p.constraints.push_back(c);
-    p.manifoldOfConstraint.push_back(manifold);
+    c.position = toFloat4(pointSum / btScalar(slot.numPoints));
+    p.constraints[size_t(slot.constraint)] = c;
+    p.manifoldOfConstraint[size_t(slot.constraint)] = manifold;
+}
+
+// Three passes over the manifolds: their bodies on this thread (a body first met here gets its
+// solver body in SI's order), then each manifold checked and its points counted in parallel,
+// places given by a running count, and each manifold packed at its places in parallel.
+void StepGatherer::packManifolds() {
+    StepProblem& p = m_problem;
+    const size_t numManifolds = m_manifolds.size();
+    m_slots.assign(numManifolds, ManifoldSlot{});
+    for (size_t m = 0; m < numManifolds; ++m) {
+        ManifoldSlot& slot = m_slots[m];
+        slot.bodyA = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody0()));
+        slot.bodyB = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody1()));
+    }
+    fillNewBodies();
+    for (ManifoldSlot& slot : m_slots)
+        slot.solved = !(toVector3(p.bodies[slot.bodyA].invMass).fuzzyZero() &&
+                        toVector3(p.bodies[slot.bodyB].invMass).fuzzyZero());
+
+    parallelFor(numManifolds, [&](size_t m) {
+        if (m + kPrefetchAhead < numManifolds) prefetchPoints(m_manifolds[m + kPrefetchAhead]);
+        countPoints(m);
+    });
+
+    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    int numPoints = 0, numRolling = 0, numConstraints = 0;
+    for (ManifoldSlot& slot : m_slots) {
+        if (!slot.solved || slot.numPoints == 0) continue;
+        slot.constraint = numConstraints++;
+        slot.firstPoint = numPoints;
+        slot.firstFriction = numPoints * frictionRows;
+        slot.firstRolling = numRolling;
+        numPoints += slot.numPoints;
+        numRolling += 3 * slot.numRolling;
+    }
+    p.numNormalRows = numPoints;
+    p.numFrictionRows = numPoints * frictionRows;
+    p.numRollingRows = numRolling;
+    p.points.resize(size_t(numPoints));
+    p.manifoldPoints.resize(size_t(numPoints));
+    p.constraints.resize(size_t(numConstraints));
+    p.manifoldOfConstraint.resize(size_t(numConstraints));
+
+    parallelFor(numManifolds, [&](size_t m) {
+        if (m + kPrefetchAhead < numManifolds) prefetchPoints(m_manifolds[m + kPrefetchAhead]);
+        packManifold(m);
+    });
+    for (const ManifoldSlot& slot : m_slots) p.maySplitPenetration = p.maySplitPenetration || slot.maySplit;
 }
 
 StepProblem& StepGatherer::finish() {
@@ -256,24 +345,7 @@ StepProblem& StepGatherer::finish() {
     p.rowsOnDevice = m_setup == RowSetup::Device;
     for (const btPersistentManifold* m : m_manifolds)
         if (hasAnisotropicFriction(m->getBody0()) || hasAnisotropicFriction(m->getBody1())) p.rowsOnDevice = false;
-    for (size_t i = 0; i < m_manifolds.size(); ++i) {
-        if (i + kPrefetchAhead < m_manifolds.size()) prefetchPoints(m_manifolds[i + kPrefetchAhead]);
-        packManifold(m_manifolds[i]);
-    }
-    // Rows in gather order: all normal rows (one per point), then friction, then rolling rows.
-    p.numNormalRows = int(p.points.size());
-    p.numFrictionRows = m_numFriction;
-    p.numRollingRows = m_numRolling;
-    const int frictionBase = p.numNormalRows;
-    const int rollingBase = frictionBase + p.numFrictionRows;
-    for (btoclConstraint& c : p.constraints) {
-        c.firstRow[BTOCL_ROWS_FRICTION] += frictionBase;
-        c.firstRow[BTOCL_ROWS_ROLLING] += rollingBase;
-    }
-    for (btoclContactPoint& pt : p.points) {
-        pt.firstFrictionRow += frictionBase;
-        if (pt.firstRollingRow >= 0) pt.firstRollingRow += rollingBase;
-    }
+    packManifolds();
     p.setupParams = setupParamsOf(m_info, int(p.points.size()));
     if (!p.rowsOnDevice) setupRowsOnHost(p);
     if (!m_joints.empty()) addJointRows();

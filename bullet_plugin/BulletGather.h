@@ -42,8 +42,22 @@ public:
     int solverBodyOf(btCollisionObject* object);
 
 private:
-    int addSolverBody(btRigidBody* rb);
-    void packManifold(btPersistentManifold* manifold);
+    // A manifold's share of the step: its bodies, its points in reach and where its records go.
+    struct ManifoldSlot {
+        int bodyA = 0, bodyB = 0;
+        bool solved = false;  // false: two bodies that cannot move (SI tests the inverse-mass vectors)
+        int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
+        int constraint = -1;                // its constraint, or -1 with no point in reach
+        int firstPoint = 0, firstFriction = 0, firstRolling = 0;
+        bool maySplit = false;
+    };
+    int namedBodyOf(btCollisionObject* object);
+    int nameSolverBody(btRigidBody* rb);
+    void fillNewBodies();
+    void fillSolverBody(int index);
+    void packManifolds();
+    void countPoints(size_t manifold);
+    void packManifold(size_t manifold);
     void addJointRows();
 
     btContactSolverInfo m_info;
@@ -51,7 +65,7 @@ private:
     std::vector<btPersistentManifold*> m_manifolds;
     std::vector<btTypedConstraint*> m_joints;
     StepProblem m_problem;
-    int m_numFriction = 0, m_numRolling = 0;  // friction and rolling rows counted so far
+    std::vector<ManifoldSlot> m_slots;  // one per manifold, reused from step to step
 };
 
 }  // namespace btocl

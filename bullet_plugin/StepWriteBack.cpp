@@ -1,6 +1,7 @@
 #include "StepWriteBack.h"
 
 #include "BulletConversions.h"
+#include "HostParallel.h"
 #include "JointWriteBack.h"
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
@@ -17,7 +18,7 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
     // As SI: plane-space directions with two directions and no velocity dependence are kept.
     const bool keepDirections = two && (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION);
     const size_t n = p.points.size();
-    for (size_t i = 0; i < n; ++i) {
+    parallelFor(n, [&](size_t i) {
         if (i + 8 < n) {
             const char* ahead = reinterpret_cast<const char*>(p.manifoldPoints[i + 8]);
             for (size_t line = 0; line < sizeof(btManifoldPoint); line += 64) __builtin_prefetch(ahead + line, 1);
@@ -33,15 +34,13 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
         pt->m_lateralFrictionDir1 = toVector3(p.lateralDirs[2 * i]);
         pt->m_lateralFrictionDir2 = toVector3(p.lateralDirs[2 * i + 1]);
         if (keepDirections) pt->m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
-    }
+    });
 }
 
-}  // namespace
-
-void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
-    writeBackPoints(p, info);
-    writeBackJoints(p.joints, p.appliedImpulses.data() + p.jointRowBase, info);
-    for (size_t i = 1; i < p.original.size(); ++i) {
+// Velocities, split-impulse transforms and companion ids of the solver bodies (0 is the fixed body).
+void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
+    parallelFor(p.original.size() - 1, [&](size_t k) {
+        const size_t i = k + 1;
         btRigidBody* rb = p.original[i];
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
@@ -59,7 +58,15 @@ void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
             }
         }
         rb->setCompanionId(-1);
-    }
+    });
+}
+
+}  // namespace
+
+void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
+    writeBackPoints(p, info);
+    writeBackJoints(p.joints, p.appliedImpulses.data() + p.jointRowBase, info);
+    writeBackBodies(p, info);
 }
 
 }  // namespace btocl

@@ -1,0 +1,99 @@
+// The host's loops over bodies, manifolds and points (HostParallel.h) give the step they give on
+// one thread, bitwise: every loop writes only its own item's records. Each scene runs twice in
+// this process, once with every loop on the calling thread and once with every loop in
+// parallel (the threshold lowered to one item), and the two worlds are compared field by field.
+#include "HostParallel.h"
+#include "Scenes.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <catch2/catch.hpp>
+
+#include <omp.h>
+
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace testworld;
+
+namespace {
+
+// Runs with every host loop parallel from `minItems` items on; puts the threshold back after.
+struct ParallelFrom {
+    explicit ParallelFrom(size_t minItems) { btocl::minParallelItems() = minItems; }
+    ~ParallelFrom() { btocl::minParallelItems() = btocl::kMinParallelItems; }
+};
+
+// What a step writes to Bullet, as bytes: bodies' transforms and velocities, every manifold
+// point's impulses, friction directions and flags.
+std::vector<unsigned char> writtenState(World& w) {
+    std::vector<unsigned char> out;
+    auto add = [&out](const void* field, size_t n) {
+        out.insert(out.end(), static_cast<const unsigned char*>(field), static_cast<const unsigned char*>(field) + n);
+    };
+    for (const btRigidBody* b : w.bodies()) {
+        add(&b->getWorldTransform(), sizeof(btTransform));
+        add(&b->getLinearVelocity(), sizeof(btVector3));
+        add(&b->getAngularVelocity(), sizeof(btVector3));
+    }
+    for (btPersistentManifold* m : w.manifolds())
+        for (int j = 0; j < m->getNumContacts(); ++j) {
+            const btManifoldPoint& p = m->getContactPoint(j);
+            add(&p.m_appliedImpulse, sizeof(btScalar));
+            add(&p.m_appliedImpulseLateral1, sizeof(btScalar));
+            add(&p.m_appliedImpulseLateral2, sizeof(btScalar));
+            add(&p.m_lateralFrictionDir1, sizeof(btVector3));
+            add(&p.m_lateralFrictionDir2, sizeof(btVector3));
+            add(&p.m_contactPointFlags, sizeof(int));
+        }
+    return out;
+}
+
+// A pile of 300 boxes (about 1,000 manifolds at rest) for 90 steps, with two friction
+// directions, rolling friction, and split impulse, which each take a branch of the gather.
+std::vector<unsigned char> pileAfter90Steps(size_t minItems) {
+    ParallelFrom threshold(minItems);
+    World w(SolverKind::OpenCL);
+    groundAndPile(w, 300);
+    for (btRigidBody* b : w.bodies()) b->setRollingFriction(btScalar(0.05));
+    w.dyn().getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    w.dyn().getSolverInfo().m_splitImpulse = true;
+    for (int s = 0; s < 90; ++s) w.step();
+    REQUIRE(w.manifolds().size() > 300);
+    return writtenState(w);
+}
+
+}  // namespace
+
+TEST_CASE("the host's loops give the same steps in parallel as on one thread, bitwise", "[host][parallel]") {
+    INFO("OpenMP threads: " << omp_get_max_threads());
+    const std::vector<unsigned char> serial = pileAfter90Steps(std::numeric_limits<size_t>::max());
+    const std::vector<unsigned char> parallel = pileAfter90Steps(1);
+    REQUIRE(serial.size() == parallel.size());
+    CHECK(std::memcmp(serial.data(), parallel.data(), serial.size()) == 0);
+}
+
+TEST_CASE("a bad body found by a parallel loop is reported as the serial loop reports it", "[host][parallel][errors]") {
+    // Two bodies with a NaN velocity: both loops name the first of them in the world's order.
+    auto messageOf = [](size_t minItems) {
+        ParallelFrom threshold(minItems);
+        World w(SolverKind::OpenCL);
+        groundAndPile(w, 64);
+        for (int s = 0; s < 20; ++s) w.step();
+        const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
+        w.body(50)->setLinearVelocity(btVector3(nan, 0, 0));
+        w.body(12)->setLinearVelocity(btVector3(0, nan, 0));
+        std::string message;
+        try {
+            w.step();
+        } catch (const btOpenCLSolverError& e) {
+            message = e.what();
+        }
+        return message;
+    };
+    const std::string serial = messageOf(std::numeric_limits<size_t>::max()), parallel = messageOf(1);
+    INFO("serial: " << serial);
+    REQUIRE_FALSE(serial.empty());
+    CHECK(parallel == serial);
+}
