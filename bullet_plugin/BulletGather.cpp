@@ -42,6 +42,14 @@ void prefetchPoints(const btPersistentManifold* m) {
     for (const char* a = first; a < end; a += 64) __builtin_prefetch(a);
 }
 
+// Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
+// contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
+template <class T>
+void resizeForOverwrite(std::vector<T>& v, size_t n) {
+    if (n > v.capacity()) v.reserve(n + n / 4);
+    v.resize(n);
+}
+
 bool hasAnisotropicFriction(const btCollisionObject* o) {
     return o->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
                                      btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
@@ -78,14 +86,12 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.deltas.assign(1, btoclBodyDelta{});
     p.worldTransforms.assign(1, btTransform::getIdentity());
     p.splitBodies.assign(1, SplitBody{});
-    p.constraints.clear();
-    p.manifoldOfConstraint.clear();
+    // constraints, manifoldOfConstraint, points and manifoldPoints are sized and overwritten by
+    // packManifolds: kept here, they are neither zeroed nor fresh memory every step.
     p.rows.clear();
     p.hostRowBase = 0;
     p.joints = JointRowSet{};
     p.jointRowBase = 0;
-    p.points.clear();
-    p.manifoldPoints.clear();
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
     p.maySplitPenetration = false;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
@@ -328,10 +334,10 @@ void StepGatherer::packManifolds() {
     p.numNormalRows = numPoints;
     p.numFrictionRows = numPoints * frictionRows;
     p.numRollingRows = numRolling;
-    p.points.resize(size_t(numPoints));
-    p.manifoldPoints.resize(size_t(numPoints));
-    p.constraints.resize(size_t(numConstraints));
-    p.manifoldOfConstraint.resize(size_t(numConstraints));
+    resizeForOverwrite(p.points, size_t(numPoints));
+    resizeForOverwrite(p.manifoldPoints, size_t(numPoints));
+    resizeForOverwrite(p.constraints, size_t(numConstraints));
+    resizeForOverwrite(p.manifoldOfConstraint, size_t(numConstraints));
 
     parallelFor(numManifolds, [&](size_t m) {
         if (m + kPrefetchAhead < numManifolds) prefetchPoints(m_manifolds[m + kPrefetchAhead]);
