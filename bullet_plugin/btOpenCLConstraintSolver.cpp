@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <string>
 #include <cmath>
+#include <limits>
 
 namespace {
 
@@ -38,9 +39,24 @@ private:
     Clock::time_point m_start = Clock::now(), m_last = m_start;
 };
 
-// A step of at most this many constraints runs whole in one launch of one work-group (no global
-// split): below it, the launches per set and pass cost more than the parallel solve saves.
-constexpr int kWholeStepMaxConstraints = 1024;
+// When a step runs whole in one launch of one work-group (no global split, no sets): when the
+// launches per set and pass (about a hundred a step) would cost more than solving the sets'
+// groups side by side saves.
+// - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
+// - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
+//   units, for about 4 ms of launches a step on PoCL (2 cores). Measured there (btocl_bench,
+//   whole against split, ms a step): pile 1,000 3.2 / 5.0, pile 10,000 (72K rows) 30.5 / 35.8,
+//   columns 12,000 (118K rows) 30.5 / 34.6, block 3,000 (137K rows) 31.3 / 29.1, block 12,000
+//   159 / 119. The crossover, about 128K rows on 2 units, falls as units are added (the split
+//   saves a larger share): rows at most 64K x units / (units - 1), without limit on one unit.
+constexpr int kWholeStepMaxConstraintsWide = 1024;
+constexpr double kWholeStepRowsPerUnitShare = 65536;
+
+double wholeStepMaxRowsSerial(const btocl::OclRuntime& runtime) {
+    const double units = double(runtime.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+    if (units <= 1) return std::numeric_limits<double>::infinity();
+    return kWholeStepRowsPerUnitShare * units / (units - 1);
+}
 
 // The path asked for, or BT_OPENCL_SOLVE_PATH's, or the device type's.
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const btocl::OclRuntime& runtime) {
@@ -68,6 +84,7 @@ struct btOpenCLConstraintSolver::Impl {
                                      : btocl::DevicePrimitives::Backend::Chunked),
           limits(btocl::deviceLimitsOf(runtime)),
           device(runtime, primitives, wide() ? c.workGroupSize : 1),
+          autoWholeStepMaxRows(wholeStepMaxRowsSerial(runtime)),
           batcher(runtime, primitives),
           fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {}
     // Nothing queued may outlive the host memory it reads: the step's vectors die with this.
@@ -81,6 +98,9 @@ struct btOpenCLConstraintSolver::Impl {
             throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
         if (!(c.cellSize >= 0) || !std::isfinite(c.cellSize))
             throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive length");
+        if (c.wholeStepMaxRows < -1)
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: wholeStepMaxRows must be -1 (automatic), 0 (never) or a "
+                                      "row count, not " + std::to_string(c.wholeStepMaxRows));
         return c;
     }
 
@@ -90,6 +110,7 @@ struct btOpenCLConstraintSolver::Impl {
     btocl::DevicePrimitives primitives;
     btocl::DeviceLimits limits;
     btocl::DeviceSolver device;
+    double autoWholeStepMaxRows;  // serial path, wholeStepMaxRows -1
     btocl::DeviceBatcher batcher;
     btocl::StepGatherer gatherer;
     std::unique_ptr<btocl::SequentialFallback> fallback;  // with fallbackToBullet
@@ -143,6 +164,10 @@ struct btOpenCLConstraintSolver::Impl {
     }
 
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
+    bool solveWhole(const btocl::StepProblem& p) const {
+        if (config.wholeStepMaxRows >= 0) return p.numRows() <= config.wholeStepMaxRows;
+        return wide() ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide : double(p.numRows()) <= autoWholeStepMaxRows;
+    }
 
     void run() {
         if (!gathering) return;
@@ -168,7 +193,7 @@ struct btOpenCLConstraintSolver::Impl {
             params.batchIterations = config.batchIterations;
             params.workGroupSize = config.workGroupSize;
             btocl::LayoutOptions layout;
-            layout.oneGroup = int(p.constraints.size()) <= kWholeStepMaxConstraints;
+            layout.oneGroup = solveWhole(p);
             layout.localBatches = wide();
             batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
             btocl::DeviceLayoutView view;

@@ -139,9 +139,10 @@ BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BT
 BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
                                         BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
                                         BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
-                                        BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int applyFactors, int iteration,
+                                        BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
                                         int numIterations) {
     const int push = pass == BTOCL_PASS_PENETRATION;
+    const int applyFactors = (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);
     btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push);
     float maxResidual2 = 0.0f;
@@ -158,8 +159,15 @@ BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, B
         // Joints are neither warm-started nor part of the split-impulse iterations (SI's neither).
         if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, applyFactors, iteration);
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
-        const int end = contacts ? first + c->numRows[BTOCL_ROWS_NORMAL] : first;
-        for (int r = first; r < end; ++r) {
+        const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
+        // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
+        // another one each time (the same in every run): no point always goes first and takes
+        // the largest share, which is what makes a resting stack creep in one fixed order.
+        const int start = (pass == BTOCL_PASS_NORMAL && (flags & BTOCL_FLAG_ROTATE_POINTS) && count > 1)
+                              ? iteration % count
+                              : 0;
+        for (int k = 0; k < count; ++k) {
+            const int r = first + (start + k < count ? start + k : start + k - count);
             BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
             float residual = 0.0f;
             if (pass == BTOCL_PASS_WARMSTART) {

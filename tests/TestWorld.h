@@ -42,6 +42,11 @@ inline SolverKind candidateKind() {
 inline btOpenCLSolverConfig validatingConfig() {
     btOpenCLSolverConfig c;
     c.validate = true;  // every step checks the split and batch invariants
+    // Steps past 4,096 rows (about 1,000 constraints) go through the global split on either
+    // path, so that the parity scenes exercise the split and the sets as well as the whole-step
+    // kernel; the serial path's own choice (whole up to about 128K rows on 2 cores) would solve
+    // nearly every test scene whole. test_solver_api.cpp tests the automatic choice.
+    c.wholeStepMaxRows = 4096;
     return c;
 }
 

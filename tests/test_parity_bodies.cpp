@@ -103,3 +103,28 @@ TEST_CASE("parity: two worlds with two solvers in one process each match SI", "[
         CHECK(b.ours.openCL()->getLastStats().numContactPoints == b.ours.numContactPoints());
     }
 }
+
+TEST_CASE("a residual threshold that is never reached changes nothing, with body factors other than 1",
+          "[solve][factors]") {
+    // A box with linear factor 0.5 on y and angular factor 0.5 dropped corner first: the solve
+    // scales impulses by the factors only without SOLVER_SIMD, as SI. Tracking the residual
+    // (m_leastSquaresResidualThreshold > 0) must not change that: it once did.
+    auto run = [](btScalar threshold, bool simd) {
+        World w(SolverKind::OpenCL);
+        w.addGround();
+        btRigidBody* box = w.addUnitBox(btVector3(0, 2, 0));
+        box->setWorldTransform(at(btVector3(0, 2, 0), btQuaternion(btVector3(1, 0, 1).normalized(), 0.6f)));
+        box->setLinearFactor(btVector3(1, btScalar(0.5), 1));
+        box->setAngularFactor(btScalar(0.5));
+        w.info().m_leastSquaresResidualThreshold = threshold;
+        if (!simd) w.info().m_solverMode &= ~SOLVER_SIMD;
+        for (int s = 0; s < 90; ++s) w.step();
+        return std::make_pair(box->getWorldTransform(), box->getLinearVelocity());
+    };
+    for (const bool simd : {true, false}) {
+        INFO("SOLVER_SIMD " << simd);
+        const auto plain = run(0, simd), tracked = run(btScalar(1e-30), simd);
+        CHECK(distance(plain.first.getOrigin(), tracked.first.getOrigin()) < 1e-6);
+        CHECK(distance(plain.second, tracked.second) < 1e-6);
+    }
+}

@@ -1,5 +1,5 @@
-// What a user of btOpenCLConstraintSolver sees beside the physics: a clear error for bad input,
-// joints (they come in a later issue) and bad configurations, a world that steps on after an
+// What a user of btOpenCLConstraintSolver sees beside the physics: a clear error for bad input
+// and bad configurations, a world that steps on after an
 // error, solveGroup called by hand, plausible statistics, a device name. These always run our
 // solver.
 #include "TestWorld.h"
@@ -80,6 +80,9 @@ TEST_CASE("bad configurations are refused with a message", "[errors]") {
     config = btOpenCLSolverConfig{};
     config.cellSize = -1;
     CHECK_THROWS_WITH(btOpenCLConstraintSolver(config), Catch::Contains("cellSize"));
+    config = btOpenCLSolverConfig{};
+    config.wholeStepMaxRows = -2;
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(config), Catch::Contains("wholeStepMaxRows"));
 }
 
 TEST_CASE("solveGroup called outside prepareSolve/allSolved solves at once", "[api]") {
@@ -166,6 +169,31 @@ TEST_CASE("a step of many constraints is split into cell groups", "[api]") {
     REQUIRE(s.numCellGroups > 4);  // a pile wider than a cell spreads over cells of every set
     REQUIRE(s.numGroups >= s.numCellGroups);
     REQUIRE(s.numBatchesMax >= 1);
+}
+
+TEST_CASE("by default a step is solved whole up to a size that depends on the solve path", "[api]") {
+    // 1,800 manifolds, about 14,000 rows: past the wide path's 1,024 constraints, within the
+    // serial path's rows (at least 64K, more on fewer compute units).
+    btOpenCLSolverConfig config;  // wholeStepMaxRows automatic
+    World w(SolverKind::OpenCL, config);
+    w.addGround();
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 30; ++x)
+            for (int z = 0; z < 30; ++z)
+                w.addUnitBox(btVector3(btScalar(x) * 1.05f, btScalar(0.5) + btScalar(y), btScalar(z) * 1.05f));
+    for (int i = 0; i < 3; ++i) w.step();
+    const btOpenCLSolverStats& s = w.openCL()->getLastStats();
+    CAPTURE(s.numConstraintRows, s.numGroups);
+    REQUIRE(s.numConstraintRows > 4096);
+    REQUIRE(s.numConstraintRows < 65536);
+    CHECK(s.solvedWholeStep == (w.openCL()->getSolvePath() == btOpenCLSolvePath::Serial));
+    // Asked for, every step is split.
+    config.wholeStepMaxRows = 0;
+    World split(SolverKind::OpenCL, config);
+    split.addGround();
+    for (int i = 0; i < 3; ++i) split.addUnitBox(btVector3(btScalar(3 * i), btScalar(0.5), 0));
+    for (int i = 0; i < 3; ++i) split.step();
+    CHECK_FALSE(split.openCL()->getLastStats().solvedWholeStep);
 }
 
 TEST_CASE("getDeviceName names the device", "[api]") {

@@ -41,6 +41,11 @@ struct btOpenCLSolverConfig {
     int workGroupSize = 64;   // lanes per work-group (wide path)
     bool validate = false;    // check the split and batch invariants every step (tests use it)
     btOpenCLSolvePath solvePath = btOpenCLSolvePath::Auto;
+    // A small step is solved whole, by one work-group in one launch, without the global split:
+    // there the launches per set and pass would cost more than the split saves. -1: the solver
+    // decides (wide path: at most 1,024 constraints; serial path: by rows and compute units,
+    // README "How it works"); 0: every step is split; n > 0: steps of at most n rows.
+    int wholeStepMaxRows = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
     // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
