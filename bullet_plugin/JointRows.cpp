@@ -1,6 +1,7 @@
 #include "JointRows.h"
 
 #include "BulletConversions.h"
+#include "HostParallel.h"
 #include "InputChecks.h"
 #include "btOpenCLConstraintSolver.h"
 #include "row_setup.h"
@@ -145,9 +146,8 @@ btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool 
 
 }  // namespace
 
-// The joints one after another. Each joint's getInfo2 writes only its own rows and its own state,
-// so with many joints the loop over them could be split across threads (rows counted first, as
-// here, then each range of joints filled into its own scratch); one thread suffices for now.
+// Row counts first (one thread), then every joint's rows (in parallel), then the constraints
+// and their split points (one thread).
 JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
                            const std::vector<btoclBody>& solverBodies, const btContactSolverInfo& info) {
     JointRowSet set;
@@ -177,13 +177,13 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
     set.rows.resize(size_t(numRows));
     set.splitExtent.assign(solverBodies.size(), 0.f);
 
-    ReachBoxes reach(solverBodies.size());
-    btConstraintArray scratch;
-    for (int i = 0; i < numConstraints; ++i) {
-        StepJoint& j = set.joints[size_t(i)];
-        if (j.numRows == 0) continue;
+    // Rows: each joint's getInfo2 writes only its own rows and its own state, so the joints are
+    // filled in parallel (HostParallel.h), each thread with a scratch array of its own.
+    parallelFor(size_t(numConstraints), [&](size_t i) {
+        const StepJoint& j = set.joints[i];
+        if (j.numRows == 0) return;
+        thread_local btConstraintArray scratch;
         btTypedConstraint& c = *j.constraint;
-        set.maxIterations = std::max(set.maxIterations, j.numIterations);
         const btScalar damping = fillRowsFromJoint(c, j.numRows, info, scratch);
         const btoclBody A = jointSide(c.getRigidBodyA(), j.bodyA, solverBodies);
         const btoclBody B = jointSide(c.getRigidBodyB(), j.bodyB, solverBodies);
@@ -202,7 +202,18 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
                                           "the solver holds them as one");
             set.rows[size_t(j.firstRow + k)] = r;
         }
+    });
 
+    // Constraints and split points on one thread: a joint's point depends on how far the joints
+    // before it stretched its bodies' reach.
+    ReachBoxes reach(solverBodies.size());
+    for (int i = 0; i < numConstraints; ++i) {
+        StepJoint& j = set.joints[size_t(i)];
+        if (j.numRows == 0) continue;
+        btTypedConstraint& c = *j.constraint;
+        set.maxIterations = std::max(set.maxIterations, j.numIterations);
+        const btoclBody A = jointSide(c.getRigidBodyA(), j.bodyA, solverBodies);
+        const btoclBody B = jointSide(c.getRigidBodyB(), j.bodyB, solverBodies);
         btoclConstraint con{};
         con.bodyA = j.bodyA;
         con.bodyB = j.bodyB;

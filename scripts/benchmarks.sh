@@ -9,8 +9,8 @@
 #
 # --quality runs scenes that come to rest (a pyramid with a base of 20, the default wall, a
 # small dense block of 216 boxes face to face, a pile of 1,000 dropped boxes) for 600 steps (10 s)
-# and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours (rotated points,
-# the default) and ours in a fixed order: the largest drift (from the start for scenes that start
+# and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours as it ships
+# (SI's fixed order) and ours with rotatePoints: the largest drift (from the start for scenes that start
 # at rest, else from step 450), the resting kinetic energy (mean of the last 150 steps), the
 # deepest penetration and whether the stacks stand. RUN, "scene size" each, replaces the scenes.
 # The JSON files stay in build/quality/.
@@ -35,11 +35,11 @@ if [[ "$mode" == quality ]]; then
   for run in "${runs[@]}"; do
     read -r scene size <<<"$run"
     echo "== $scene (size $size, 600 steps)" >&2
-    # SI, SI randomized and ours (rotated) side by side; then ours in the fixed order alone.
-    "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order rotated \
+    # SI, SI randomized and ours (as shipped) side by side; then ours with rotatePoints alone.
+    "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order fixed \
       --json "build/quality/$scene-$size.json" >/dev/null
-    "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order fixed \
-      --json "build/quality/$scene-$size-fixed.json" >/dev/null
+    "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order rotated \
+      --json "build/quality/$scene-$size-rotated.json" >/dev/null
     names+=("$scene-$size")
   done
   python3 - build/quality "${names[@]}" <<'PY'
@@ -51,9 +51,9 @@ def yn(v):
     return "-" if v is None else ("yes" if v else "no")
 for name in names:
     both = json.load(open(os.path.join(folder, name + ".json")))
-    fixed = json.load(open(os.path.join(folder, name + "-fixed.json")))
+    rotated = json.load(open(os.path.join(folder, name + "-rotated.json")))
     sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]),
-             ("ours, rotated", both["ours"]), ("ours, fixed order", fixed["ours"])]
+             ("ours", both["ours"]), ("ours, rotatePoints", rotated["ours"])]
     label = "%s %d" % (both["scene"], both["size"])
     for solver, side in sides:
         q = side["quality"]
@@ -71,6 +71,8 @@ runs=(
   "pile 1000 300"
   "columns 12000 300"
   "block 12000 30"
+  "ragdolls 200 600"
+  "machine 64 600"
 )
 for run in "${runs[@]}"; do
   read -r scene size steps <<<"$run"
@@ -81,9 +83,11 @@ done
 python3 - build/bench <<'PY'
 import json, os, sys
 folder = sys.argv[1]
-order = ["pyramid", "wall", "pile", "columns", "block"]
-print("| scene | bodies | contact points | SI ms/step | ours ms/step | ours / SI | groups | batches max / mean | max penetration SI / ours | standing SI / ours |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+order = ["pyramid", "wall", "pile", "columns", "block", "ragdolls", "machine"]
+print("| scene | bodies | contact points | joint rows | SI ms/step | ours ms/step | ours / SI | groups | max penetration SI / ours | max joint error SI / ours | standing SI / ours |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+def num(v):
+    return "-" if v is None else "%.3f" % v
 def yn(v):
     return "-" if v is None else ("yes" if v else "no")
 for name in order:
@@ -92,9 +96,9 @@ for name in order:
         continue
     d = json.load(open(path))
     si, o = d["si"], d["ours"]
-    print("| %s | %d | %d | %.1f | %.1f | %.2f | %d | %d / %.1f | %.3f / %.3f | %s / %s |" % (
-        name, d["bodies"], d["contactPoints"], si["msPerStep"]["median"], o["msPerStep"]["median"],
-        d["ratioOursOverSi"], o["groups"], o["batchesMax"], o["batchesMean"],
-        si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
+    print("| %s | %d | %d | %d | %.1f | %.1f | %.2f | %d | %.3f / %.3f | %s / %s | %s / %s |" % (
+        name, d["bodies"], d["contactPoints"], o["jointRows"], si["msPerStep"]["median"], o["msPerStep"]["median"],
+        d["ratioOursOverSi"], o["groups"], si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
+        num(si["quality"]["maxJointError"]), num(o["quality"]["maxJointError"]),
         yn(si["quality"]["stacksStanding"]), yn(o["quality"]["stacksStanding"])))
 PY

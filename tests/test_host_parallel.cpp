@@ -64,7 +64,60 @@ std::vector<unsigned char> pileAfter90Steps(size_t minItems) {
     return writtenState(w);
 }
 
+// Chains of 12 links swinging down onto the ground, their joints of three kinds (point-to-point,
+// hinge with a limit, 6-DoF spring), 60 steps; what the step writes plus each joint's impulse.
+std::vector<unsigned char> chainsAfter60Steps(size_t minItems) {
+    ParallelFrom threshold(minItems);
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    std::vector<btTypedConstraint*> joints;
+    for (int chain = 0; chain < 6; ++chain) {
+        btRigidBody* previous = nullptr;
+        for (int k = 0; k < 12; ++k) {
+            btRigidBody* link = w.addUnitBox(btVector3(btScalar(1.1 * k), 14, btScalar(3 * chain)));
+            if (!previous) {
+                joints.push_back(w.addConstraint(std::make_unique<btPoint2PointConstraint>(*link, btVector3(-0.55f, 0, 0))));
+            } else if (k % 3 == 0) {
+                joints.push_back(w.addConstraint(std::make_unique<btPoint2PointConstraint>(
+                    *previous, *link, btVector3(0.55f, 0, 0), btVector3(-0.55f, 0, 0))));
+            } else if (k % 3 == 1) {
+                auto hinge = std::make_unique<btHingeConstraint>(*previous, *link, btVector3(0.55f, 0, 0),
+                                                                 btVector3(-0.55f, 0, 0), btVector3(0, 0, 1), btVector3(0, 0, 1));
+                hinge->setLimit(-1, 1);
+                joints.push_back(w.addConstraint(std::move(hinge)));
+            } else {
+                auto spring = std::make_unique<btGeneric6DofSpring2Constraint>(
+                    *previous, *link, btTransform(btQuaternion::getIdentity(), btVector3(0.55f, 0, 0)),
+                    btTransform(btQuaternion::getIdentity(), btVector3(-0.55f, 0, 0)));
+                spring->setLinearLowerLimit(btVector3(0, 0, 0));
+                spring->setLinearUpperLimit(btVector3(0, 0, 0));
+                spring->setAngularLowerLimit(btVector3(-0.5f, -0.5f, -0.5f));
+                spring->setAngularUpperLimit(btVector3(0.5f, 0.5f, 0.5f));
+                spring->enableSpring(5, true);
+                spring->setStiffness(5, 20);
+                joints.push_back(w.addConstraint(std::move(spring)));
+            }
+            previous = link;
+        }
+    }
+    for (int s = 0; s < 60; ++s) w.step();
+    std::vector<unsigned char> out = writtenState(w);
+    for (const btTypedConstraint* j : joints) {
+        const btScalar impulse = j->getAppliedImpulse();
+        out.insert(out.end(), reinterpret_cast<const unsigned char*>(&impulse),
+                   reinterpret_cast<const unsigned char*>(&impulse) + sizeof(btScalar));
+    }
+    return out;
+}
+
 }  // namespace
+
+TEST_CASE("the joints' rows set up in parallel give the same steps as on one thread, bitwise", "[host][parallel][joints]") {
+    const std::vector<unsigned char> serial = chainsAfter60Steps(std::numeric_limits<size_t>::max());
+    const std::vector<unsigned char> parallel = chainsAfter60Steps(1);
+    REQUIRE(serial.size() == parallel.size());
+    CHECK(std::memcmp(serial.data(), parallel.data(), serial.size()) == 0);
+}
 
 TEST_CASE("the host's loops give the same steps in parallel as on one thread, bitwise", "[host][parallel]") {
     INFO("OpenMP threads: " << omp_get_max_threads());
