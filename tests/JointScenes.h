@@ -420,6 +420,24 @@ inline btTransform frameIn(const btRigidBody& b, const btTransform& world) {
     return b.getCenterOfMassTransform().inverse() * world;
 }
 
+// A 6-DoF spring of either Bullet class (they share the setters): a random stretch along x and a
+// swing about x, each with a random spring; damping on x in [dampLow, dampHigh], about x in
+// [swingDampLow, 1].
+template <class Spring>
+void randomSpringsOnX(Spring& c, SceneRandom& rng, btScalar dampLow, btScalar dampHigh, btScalar swingDampLow) {
+    c.setLinearLowerLimit(btVector3(-rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+    c.setLinearUpperLimit(btVector3(rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
+    c.setAngularLowerLimit(btVector3(-1, 0, 0));
+    c.setAngularUpperLimit(btVector3(1, 0, 0));
+    c.enableSpring(0, true);
+    c.setStiffness(0, rng.uniform(20, 100));
+    c.setDamping(0, rng.uniform(dampLow, dampHigh));
+    c.enableSpring(3, true);
+    c.setStiffness(3, rng.uniform(5, 30));
+    c.setDamping(3, rng.uniform(swingDampLow, 1));
+    c.setEquilibriumPoint();
+}
+
 // A joint of kind k between a (the world when a is a static body or the fixed body) and b,
 // anchored at `anchor` (world), with random axes, limits, motors and springs that hold the start.
 inline std::unique_ptr<btTypedConstraint> randomJoint(JointKind k, btRigidBody& a, btRigidBody& b, btVector3 anchor,
@@ -490,32 +508,12 @@ inline std::unique_ptr<btTypedConstraint> randomJoint(JointKind k, btRigidBody& 
         }
         case JointKind::Spring6Dof: {
             auto c = std::make_unique<btGeneric6DofSpringConstraint>(a, b, fa, fb, true);
-            c->setLinearLowerLimit(btVector3(-rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
-            c->setLinearUpperLimit(btVector3(rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
-            c->setAngularLowerLimit(btVector3(-1, 0, 0));
-            c->setAngularUpperLimit(btVector3(1, 0, 0));
-            c->enableSpring(0, true);
-            c->setStiffness(0, rng.uniform(20, 100));
-            c->setDamping(0, rng.uniform(btScalar(0.2), 1));
-            c->enableSpring(3, true);
-            c->setStiffness(3, rng.uniform(5, 30));
-            c->setDamping(3, rng.uniform(btScalar(0.2), 1));
-            c->setEquilibriumPoint();
+            randomSpringsOnX(*c, rng, btScalar(0.2), 1, btScalar(0.2));
             return c;
         }
         case JointKind::Spring2: {
             auto c = std::make_unique<btGeneric6DofSpring2Constraint>(a, b, fa, fb);
-            c->setLinearLowerLimit(btVector3(-rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
-            c->setLinearUpperLimit(btVector3(rng.uniform(btScalar(0.2), btScalar(0.6)), 0, 0));
-            c->setAngularLowerLimit(btVector3(-1, 0, 0));
-            c->setAngularUpperLimit(btVector3(1, 0, 0));
-            c->enableSpring(0, true);
-            c->setStiffness(0, rng.uniform(20, 100));
-            c->setDamping(0, rng.uniform(btScalar(0.5), 3));
-            c->enableSpring(3, true);
-            c->setStiffness(3, rng.uniform(5, 30));
-            c->setDamping(3, rng.uniform(btScalar(0.1), 1));
-            c->setEquilibriumPoint();
+            randomSpringsOnX(*c, rng, btScalar(0.5), 3, btScalar(0.1));
             if (motor) {
                 c->enableMotor(4, true);  // y, locked unless the limits open it: open it for the motor
                 c->setLimit(4, -1, 1);

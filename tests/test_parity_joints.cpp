@@ -14,6 +14,21 @@ using namespace testworld;
 
 namespace {
 
+// A box on a 6-DoF spring (either Bullet class: they share the setters) free along y alone, its
+// spring on y at 40 N/m with the class's own damping.
+template <class Spring>
+std::unique_ptr<Spring> springOnY(std::unique_ptr<Spring> c, btScalar damping) {
+    c->setLinearLowerLimit(btVector3(0, -1, 0));
+    c->setLinearUpperLimit(btVector3(0, 1, 0));
+    c->setAngularLowerLimit(btVector3(0, 0, 0));
+    c->setAngularUpperLimit(btVector3(0, 0, 0));
+    c->enableSpring(1, true);
+    c->setStiffness(1, 40);
+    c->setDamping(1, damping);
+    c->setEquilibriumPoint();
+    return c;
+}
+
 const char* candidateName() {
     switch (candidateKind()) {
         case SolverKind::OpenCL: return "ours";
@@ -405,31 +420,15 @@ TEST_CASE("parity: a 6-DoF spring oscillates with SI's period and decay", "[pari
     SECTION("btGeneric6DofSpringConstraint") {
         requireBobsAsSI("6dof spring", [](World& w) {
             btRigidBody* box = w.addBox(btVector3(btScalar(0.2), btScalar(0.2), btScalar(0.2)), 1, at(btVector3(0, 5, 0)));
-            auto c = std::make_unique<btGeneric6DofSpringConstraint>(*box, btTransform::getIdentity(), true);
-            c->setLinearLowerLimit(btVector3(0, -1, 0));
-            c->setLinearUpperLimit(btVector3(0, 1, 0));
-            c->setAngularLowerLimit(btVector3(0, 0, 0));
-            c->setAngularUpperLimit(btVector3(0, 0, 0));
-            c->enableSpring(1, true);
-            c->setStiffness(1, 40);
-            c->setDamping(1, btScalar(0.02));
-            c->setEquilibriumPoint();
-            w.addConstraint(std::move(c));
+            w.addConstraint(springOnY(std::make_unique<btGeneric6DofSpringConstraint>(*box, btTransform::getIdentity(), true),
+                                      btScalar(0.02)));
         });
     }
     SECTION("btGeneric6DofSpring2Constraint") {
         requireBobsAsSI("6dof spring2", [](World& w) {
             btRigidBody* box = w.addBox(btVector3(btScalar(0.2), btScalar(0.2), btScalar(0.2)), 1, at(btVector3(0, 5, 0)));
-            auto c = std::make_unique<btGeneric6DofSpring2Constraint>(*box, btTransform::getIdentity());
-            c->setLinearLowerLimit(btVector3(0, -1, 0));
-            c->setLinearUpperLimit(btVector3(0, 1, 0));
-            c->setAngularLowerLimit(btVector3(0, 0, 0));
-            c->setAngularUpperLimit(btVector3(0, 0, 0));
-            c->enableSpring(1, true);
-            c->setStiffness(1, 40);
-            c->setDamping(1, btScalar(0.5));
-            c->setEquilibriumPoint();
-            w.addConstraint(std::move(c));
+            w.addConstraint(springOnY(std::make_unique<btGeneric6DofSpring2Constraint>(*box, btTransform::getIdentity()),
+                                      btScalar(0.5)));
         });
     }
 }

@@ -128,6 +128,18 @@ TEST_CASE("two boxes joined by a point-to-point joint fall together and stay joi
     REQUIRE(gap.length() < 0.01);
 }
 
+namespace {
+
+// Two layers of 30 x 30 unit boxes on the ground, a little apart: 1,800 manifolds.
+void addTwoLayersOf30By30(World& w) {
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 30; ++x)
+            for (int z = 0; z < 30; ++z)
+                w.addUnitBox(btVector3(btScalar(x) * 1.05f, btScalar(0.5) + btScalar(y), btScalar(z) * 1.05f));
+}
+
+}  // namespace
+
 TEST_CASE("getLastStats counts the bodies and contact points of a known scene", "[api]") {
     World w(SolverKind::OpenCL);
     w.addGround();
@@ -158,10 +170,7 @@ TEST_CASE("a step of many constraints is split into cell groups", "[api]") {
     World w(SolverKind::OpenCL);
     w.addGround();
     // Two layers of 30 x 30 boxes: 1,800 manifolds, over the whole-step limit of 1,024.
-    for (int y = 0; y < 2; ++y)
-        for (int x = 0; x < 30; ++x)
-            for (int z = 0; z < 30; ++z)
-                w.addUnitBox(btVector3(btScalar(x) * 1.05f, btScalar(0.5) + btScalar(y), btScalar(z) * 1.05f));
+    addTwoLayersOf30By30(w);
     for (int i = 0; i < 3; ++i) w.step();
     const btOpenCLSolverStats& s = w.openCL()->getLastStats();
     CAPTURE(s.numContactPoints, s.numGroups, s.numCellGroups, s.numBatchesMax, s.numOverflowConstraints);
@@ -177,10 +186,7 @@ TEST_CASE("by default a step is solved whole up to a size that depends on the so
     btOpenCLSolverConfig config;  // wholeStepMaxRows automatic
     World w(SolverKind::OpenCL, config);
     w.addGround();
-    for (int y = 0; y < 2; ++y)
-        for (int x = 0; x < 30; ++x)
-            for (int z = 0; z < 30; ++z)
-                w.addUnitBox(btVector3(btScalar(x) * 1.05f, btScalar(0.5) + btScalar(y), btScalar(z) * 1.05f));
+    addTwoLayersOf30By30(w);
     for (int i = 0; i < 3; ++i) w.step();
     const btOpenCLSolverStats& s = w.openCL()->getLastStats();
     CAPTURE(s.numConstraintRows, s.numGroups);
