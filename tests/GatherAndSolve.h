@@ -7,6 +7,8 @@
 #include "TestDevice.h"
 #include "TestWorld.h"
 
+#include <BulletDynamics/ConstraintSolver/btSolverConstraint.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -47,5 +49,21 @@ inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveS
 }
 
 inline float relDiff(float a, float b) { return std::fabs(a - b) / std::max(1.0f, std::max(std::fabs(a), std::fabs(b))); }
+
+inline float vectorGap(const btVector3& a, const btoclFloat4& b) {
+    return std::max({relDiff(a.x(), b.x), relDiff(a.y(), b.y), relDiff(a.z(), b.z)});
+}
+
+// The largest relative gap between one of SI's rows and ours, over every field the solve reads.
+inline float fieldGap(const btSolverConstraint& si, const btoclRow& r) {
+    return std::max({vectorGap(si.m_contactNormal1, r.contactNormal1), vectorGap(si.m_relpos1CrossNormal, r.relpos1CrossNormal),
+                     vectorGap(si.m_contactNormal2, r.contactNormal2), vectorGap(si.m_relpos2CrossNormal, r.relpos2CrossNormal),
+                     vectorGap(si.m_angularComponentA, r.angularComponentA),
+                     vectorGap(si.m_angularComponentB, r.angularComponentB), relDiff(si.m_rhs, BTOCL_ROW_RHS(r)),
+                     relDiff(si.m_rhsPenetration, BTOCL_ROW_RHS_PENETRATION(r)), relDiff(si.m_cfm, BTOCL_ROW_CFM(r)),
+                     relDiff(si.m_jacDiagABInv, BTOCL_ROW_JAC_DIAG_INV(r)), relDiff(si.m_lowerLimit, BTOCL_ROW_LOWER(r)),
+                     relDiff(si.m_upperLimit, BTOCL_ROW_UPPER(r)), relDiff(si.m_appliedImpulse, BTOCL_ROW_APPLIED(r)),
+                     relDiff(si.m_friction, BTOCL_ROW_FRICTION(r))});
+}
 
 }  // namespace btocl::test

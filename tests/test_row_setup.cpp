@@ -37,10 +37,6 @@ public:
     int numBodies() const { return m_tmpSolverBodyPool.size(); }
 };
 
-float vectorGap(const btVector3& a, const btoclFloat4& b) {
-    return std::max({relDiff(a.x(), b.x), relDiff(a.y(), b.y), relDiff(a.z(), b.z)});
-}
-
 // The largest relative gap between one of SI's rows and ours, over every field the solve reads;
 // `sameBodies` is cleared when they act on other bodies or refer to another normal row.
 float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const StepProblem& p,
@@ -49,14 +45,7 @@ float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI&
         bullet.body(si.m_solverBodyIdB).m_originalBody != p.original[size_t(r.bodyB)] ||
         (compareNormalIndex && si.m_frictionIndex != r.frictionIndex))
         sameBodies = false;
-    return std::max({vectorGap(si.m_contactNormal1, r.contactNormal1), vectorGap(si.m_relpos1CrossNormal, r.relpos1CrossNormal),
-                     vectorGap(si.m_contactNormal2, r.contactNormal2), vectorGap(si.m_relpos2CrossNormal, r.relpos2CrossNormal),
-                     vectorGap(si.m_angularComponentA, r.angularComponentA),
-                     vectorGap(si.m_angularComponentB, r.angularComponentB), relDiff(si.m_rhs, BTOCL_ROW_RHS(r)),
-                     relDiff(si.m_rhsPenetration, BTOCL_ROW_RHS_PENETRATION(r)), relDiff(si.m_cfm, BTOCL_ROW_CFM(r)),
-                     relDiff(si.m_jacDiagABInv, BTOCL_ROW_JAC_DIAG_INV(r)), relDiff(si.m_lowerLimit, BTOCL_ROW_LOWER(r)),
-                     relDiff(si.m_upperLimit, BTOCL_ROW_UPPER(r)), relDiff(si.m_appliedImpulse, BTOCL_ROW_APPLIED(r)),
-                     relDiff(si.m_friction, BTOCL_ROW_FRICTION(r))});
+    return fieldGap(si, r);
 }
 
 // Holds one problem's rows (gather order), friction directions and warm-started bodies to SI's.
