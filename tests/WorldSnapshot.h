@@ -78,4 +78,34 @@ private:
     }
 };
 
+// What a solve writes to Bullet, as bytes: each body's velocities, transform and companion id,
+// each manifold point's impulses, friction directions and flags. Unlike a WorldSnapshot these
+// bytes hold no pointers, so two worlds built alike compare equal when they were solved alike.
+template <class Bodies, class Manifolds>
+std::vector<unsigned char> solveOutputsOf(const Bodies& bodies, const Manifolds& manifolds) {
+    std::vector<unsigned char> out;
+    auto add = [&out](const void* field, size_t n) {
+        const auto* b = static_cast<const unsigned char*>(field);
+        out.insert(out.end(), b, b + n);
+    };
+    for (const btRigidBody* b : bodies) {
+        add(&b->getLinearVelocity(), sizeof(btVector3));
+        add(&b->getAngularVelocity(), sizeof(btVector3));
+        add(&b->getWorldTransform(), sizeof(btTransform));
+        const int companion = b->getCompanionId();
+        add(&companion, sizeof(int));
+    }
+    for (const btPersistentManifold* m : manifolds)
+        for (int j = 0; j < m->getNumContacts(); ++j) {
+            const btManifoldPoint& cp = m->getContactPoint(j);
+            add(&cp.m_appliedImpulse, sizeof(btScalar));
+            add(&cp.m_appliedImpulseLateral1, sizeof(btScalar));
+            add(&cp.m_appliedImpulseLateral2, sizeof(btScalar));
+            add(&cp.m_lateralFrictionDir1, sizeof(btVector3));
+            add(&cp.m_lateralFrictionDir2, sizeof(btVector3));
+            add(&cp.m_contactPointFlags, sizeof(int));
+        }
+    return out;
+}
+
 }  // namespace testworld

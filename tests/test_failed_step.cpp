@@ -50,34 +50,6 @@ std::string solveFailingAt(SettledPile& p, long nth, const btContactSolverInfo& 
     return message;
 }
 
-// What a solve writes: velocities and transforms of the bodies, impulses, directions and flags of
-// the points. Bitwise, for two piles in two worlds (their other bytes hold pointers that differ).
-std::vector<unsigned char> solveOutputs(const SettledPile& p) {
-    std::vector<unsigned char> out;
-    auto add = [&](const void* data, size_t n) {
-        const auto* b = static_cast<const unsigned char*>(data);
-        out.insert(out.end(), b, b + n);
-    };
-    for (const btRigidBody* b : p.w.bodies()) {
-        add(&b->getLinearVelocity(), sizeof(btVector3));
-        add(&b->getAngularVelocity(), sizeof(btVector3));
-        add(&b->getWorldTransform(), sizeof(btTransform));
-        const int companion = b->getCompanionId();
-        add(&companion, sizeof(int));
-    }
-    for (const btPersistentManifold* m : p.manifolds)
-        for (int j = 0; j < m->getNumContacts(); ++j) {
-            const btManifoldPoint& cp = m->getContactPoint(j);
-            add(&cp.m_appliedImpulse, sizeof(btScalar));
-            add(&cp.m_appliedImpulseLateral1, sizeof(btScalar));
-            add(&cp.m_appliedImpulseLateral2, sizeof(btScalar));
-            add(&cp.m_lateralFrictionDir1, sizeof(btVector3));
-            add(&cp.m_lateralFrictionDir2, sizeof(btVector3));
-            add(&cp.m_contactPointFlags, sizeof(int));
-        }
-    return out;
-}
-
 // The solver modes whose writes differ: the item-3 modes of issue #12.
 struct Mode {
     const char* name;
@@ -171,14 +143,14 @@ TEST_CASE("after a device failure at any point of a step, the next step is solve
     const long checks = checksPerSolve(failing);
     healthy.solve();
     healthy.solve();
-    REQUIRE(solveOutputs(failing) == solveOutputs(healthy));
+    REQUIRE(solveOutputsOf(failing.w.bodies(), failing.manifolds) == solveOutputsOf(healthy.w.bodies(), healthy.manifolds));
     for (long nth = 1; nth <= checks; ++nth) {
         INFO("device failure at check " << nth << " of " << checks);
         const std::string message = solveFailingAt(failing, nth, failing.info());
         REQUIRE(message.find("CL_OUT_OF_RESOURCES") != std::string::npos);
         failing.solve();
         healthy.solve();
-        REQUIRE(solveOutputs(failing) == solveOutputs(healthy));
+        REQUIRE(solveOutputsOf(failing.w.bodies(), failing.manifolds) == solveOutputsOf(healthy.w.bodies(), healthy.manifolds));
     }
     CHECK(failingSolver.getLastStats().numContactPoints == healthySolver.getLastStats().numContactPoints);
 }
@@ -258,17 +230,9 @@ btOpenCLSolverConfig fallingBack() {
     return c;
 }
 
-// Bodies' transforms and velocities, bitwise.
+// Bodies' transforms, velocities and companion ids, bitwise.
 std::vector<unsigned char> stateOf(const World& w) {
-    std::vector<unsigned char> out;
-    for (const btRigidBody* b : w.bodies())
-        for (const void* field : {static_cast<const void*>(&b->getWorldTransform()),
-                                  static_cast<const void*>(&b->getLinearVelocity()),
-                                  static_cast<const void*>(&b->getAngularVelocity())}) {
-            const size_t n = field == &b->getWorldTransform() ? sizeof(btTransform) : sizeof(btVector3);
-            out.insert(out.end(), static_cast<const unsigned char*>(field), static_cast<const unsigned char*>(field) + n);
-        }
-    return out;
+    return solveOutputsOf(w.bodies(), std::vector<const btPersistentManifold*>{});
 }
 
 }  // namespace

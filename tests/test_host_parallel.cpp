@@ -4,6 +4,7 @@
 // parallel (the threshold lowered to one item), and the two worlds are compared field by field.
 #include "HostParallel.h"
 #include "Scenes.h"
+#include "WorldSnapshot.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <catch2/catch.hpp>
@@ -25,31 +26,6 @@ struct ParallelFrom {
     ~ParallelFrom() { btocl::minParallelItems() = btocl::kMinParallelItems; }
 };
 
-// What a step writes to Bullet, as bytes: bodies' transforms and velocities, every manifold
-// point's impulses, friction directions and flags.
-std::vector<unsigned char> writtenState(World& w) {
-    std::vector<unsigned char> out;
-    auto add = [&out](const void* field, size_t n) {
-        out.insert(out.end(), static_cast<const unsigned char*>(field), static_cast<const unsigned char*>(field) + n);
-    };
-    for (const btRigidBody* b : w.bodies()) {
-        add(&b->getWorldTransform(), sizeof(btTransform));
-        add(&b->getLinearVelocity(), sizeof(btVector3));
-        add(&b->getAngularVelocity(), sizeof(btVector3));
-    }
-    for (btPersistentManifold* m : w.manifolds())
-        for (int j = 0; j < m->getNumContacts(); ++j) {
-            const btManifoldPoint& p = m->getContactPoint(j);
-            add(&p.m_appliedImpulse, sizeof(btScalar));
-            add(&p.m_appliedImpulseLateral1, sizeof(btScalar));
-            add(&p.m_appliedImpulseLateral2, sizeof(btScalar));
-            add(&p.m_lateralFrictionDir1, sizeof(btVector3));
-            add(&p.m_lateralFrictionDir2, sizeof(btVector3));
-            add(&p.m_contactPointFlags, sizeof(int));
-        }
-    return out;
-}
-
 // A pile of 300 boxes (about 1,000 manifolds at rest) for 90 steps, with two friction
 // directions, rolling friction, and split impulse, which each take a branch of the gather.
 std::vector<unsigned char> pileAfter90Steps(size_t minItems) {
@@ -61,7 +37,7 @@ std::vector<unsigned char> pileAfter90Steps(size_t minItems) {
     w.dyn().getSolverInfo().m_splitImpulse = true;
     for (int s = 0; s < 90; ++s) w.step();
     REQUIRE(w.manifolds().size() > 300);
-    return writtenState(w);
+    return solveOutputsOf(w.bodies(), w.manifolds());
 }
 
 // Chains of 12 links swinging down onto the ground, their joints of three kinds (point-to-point,
@@ -101,7 +77,7 @@ std::vector<unsigned char> chainsAfter60Steps(size_t minItems) {
         }
     }
     for (int s = 0; s < 60; ++s) w.step();
-    std::vector<unsigned char> out = writtenState(w);
+    std::vector<unsigned char> out = solveOutputsOf(w.bodies(), w.manifolds());
     for (const btTypedConstraint* j : joints) {
         const btScalar impulse = j->getAppliedImpulse();
         out.insert(out.end(), reinterpret_cast<const unsigned char*>(&impulse),
