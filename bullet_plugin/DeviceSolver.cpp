@@ -1,5 +1,7 @@
 #include "DeviceSolver.h"
 
+#include <algorithm>
+
 namespace btocl {
 namespace {
 
@@ -16,6 +18,8 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
     m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
+    m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
+    m_computeUnits = std::max<cl_uint>(1, m_rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     m_setupProgram = m_rt.buildProgramFile("setup.cl");
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
     m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
@@ -108,10 +112,34 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
+// One single-lane work-group per compute unit: the device runs them side by side (more would
+// wait for a free unit and buy nothing; fewer would leave units idle). Serial path only: a
+// group's batches are walked by one lane. The progress block is written with the step's other
+// copies, in order before the launch.
+void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
+    const int penetrationIterations = s.splitImpulse && p.maySplitPenetration ? s.numIterations : 0;
+    const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, penetrationIterations, s.numIterations, s.maxIterations);
+    const int workGroups = int(m_computeUnits);
+    m_progressStart.assign(size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)), 0);
+    m_progress.enqueueWrite(m_rt, m_progressStart);
+    const std::array<int, BTOCL_NUM_SETS + 2>& start = layout.setGroupStart;
+    const cl_int8 setGroupStart = {{start[0], start[1], start[2], start[3], start[4], start[5], 0, 0}};
+    setArgs(m_claimed, *layout.groups, start[BTOCL_NUM_SETS + 1], setGroupStart, m_placed.buffer(),
+            m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
+            m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,
+            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations);
+    m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
+}
+
 void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     if (p.constraints.empty()) return;
-    if (layout.wholeStep) {
+    if (layout.launch == SolveLaunch::WholeStep) {
         launchWholeStep(layout, s);
+        return;
+    }
+    if (layout.launch == SolveLaunch::Claimed) {
+        if (m_lanes != 1) throw btOpenCLSolverError("btOpenCLConstraintSolver: the claimed launch runs one lane a group");
+        launchClaimed(p, layout, s);
         return;
     }
     if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s, 0);

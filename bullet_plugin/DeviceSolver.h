@@ -1,6 +1,6 @@
 // The iterations on the device: uploads a step's bodies and constraints, lays constraints and
-// rows out in solve order, sets the rows up, launches one kernel per set and pass for every
-// iteration with no host round trip between them, and reads back the velocity changes and
+// rows out in solve order, sets the rows up, launches the iterations (one kernel per set and
+// pass, or the whole step in one launch) with no host round trip between them, and reads back the velocity changes and
 // applied impulses. Buffers are kept and grown from step to step.
 #pragma once
 
@@ -14,13 +14,20 @@
 
 namespace btocl {
 
+// How the iterations are launched (DeviceSolver::iterate).
+enum class SolveLaunch {
+    PerSet,     // one launch per set and pass: the groups of a set side by side
+    WholeStep,  // one launch of one work-group: every group of every pass in turn
+    Claimed,    // serial path: one launch of a lane per compute unit, taking (pass, set, group) in turn
+};
+
 // Where the solve finds the split/batch layout: the device batcher's buffers or uploaded ones.
 struct DeviceLayoutView {
     const cl::Buffer* groups = nullptr;
     const cl::Buffer* solveOrder = nullptr;
     const cl::Buffer* batchEnd = nullptr;
     std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};
-    bool wholeStep = false;  // one work-group solves every group, the whole step in one launch
+    SolveLaunch launch = SolveLaunch::PerSet;
 };
 
 class DeviceSolver {
@@ -50,13 +57,14 @@ public:
 private:
     void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, int iteration);
     void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
+    void launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
 
     const OclRuntime& m_rt;
     int m_lanes;
     DevicePrimitives& m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
-    cl::Kernel m_endIteration, m_wholeStep, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
+    cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints, m_placed;
@@ -69,7 +77,9 @@ private:
     DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
-    std::vector<int> m_controlStart;                            // the control block as uploaded
+    DeviceBuffer<int> m_progress;                                // solveStepClaimed's tickets and residuals
+    std::vector<int> m_controlStart, m_progressStart;           // the control block as uploaded
+    size_t m_computeUnits = 1;
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};         // ... and as read back
 };
 

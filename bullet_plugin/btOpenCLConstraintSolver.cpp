@@ -40,14 +40,14 @@ private:
 };
 
 // When a step runs whole in one launch of one work-group (no global split, no sets): when the
-// launches per set and pass (about a hundred a step) would cost more than solving the sets'
-// groups side by side saves.
+// split and the sets' groups solved side by side would save less than they cost.
 // - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
 // - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
-//   units, for about 4 ms of launches a step on PoCL (2 cores). Measured there (btocl_bench,
-//   whole against split, ms a step): pile 1,000 3.2 / 5.0, pile 10,000 (72K rows) 30.5 / 35.8,
-//   columns 12,000 (118K rows) 30.5 / 34.6, block 3,000 (137K rows) 31.3 / 29.1, block 12,000
-//   159 / 119. The crossover, about 128K rows on 2 units, falls as units are added (the split
+//   units. Measured on PoCL (2 cores; btocl_bench, whole against split, ms a step), with the split
+//   launched per set and pass: pile 1,000 3.2 / 5.0, pile 10,000 (72K rows) 30.5 / 35.8, columns
+//   12,000 (118K rows) 30.5 / 34.6, block 3,000 (137K rows) 31.3 / 29.1, block 12,000 159 / 119;
+//   with the split claimed in one launch (solveStepClaimed): pile 1,000 2.4 / 3.3, columns 12,000
+//   24.8 / 25.4, block 12,000 113 (split). Memory, not the launches, bounds the larger solves. The crossover, about 128K rows on 2 units, falls as units are added (the split
 //   saves a larger share): rows at most 64K x units / (units - 1), without limit on one unit.
 constexpr int kWholeStepMaxConstraintsWide = 1024;
 constexpr double kWholeStepRowsPerUnitShare = 65536;
@@ -164,6 +164,12 @@ struct btOpenCLConstraintSolver::Impl {
     }
 
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
+    // A split step on the serial path runs in one launch of a lane per compute unit (the per-set
+    // launches, about a hundred a step, cost PoCL some 40 us each); the wide path keeps one
+    // launch per set and pass until it is measured on a GPU.
+    btocl::SolveLaunch splitLaunch() const {
+        return wide() ? btocl::SolveLaunch::PerSet : btocl::SolveLaunch::Claimed;
+    }
     bool solveWhole(const btocl::StepProblem& p) const {
         if (config.wholeStepMaxRows >= 0) return p.numRows() <= config.wholeStepMaxRows;
         return wide() ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide : double(p.numRows()) <= autoWholeStepMaxRows;
@@ -197,7 +203,7 @@ struct btOpenCLConstraintSolver::Impl {
             layout.localBatches = wide();
             batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
             btocl::DeviceLayoutView view;
-            view.wholeStep = layout.oneGroup;
+            view.launch = layout.oneGroup ? btocl::SolveLaunch::WholeStep : splitLaunch();
             view.groups = &batcher.groups().buffer();
             view.solveOrder = &batcher.solveOrder().buffer();
             view.batchEnd = &batcher.batchEnd().buffer();

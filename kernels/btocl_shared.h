@@ -57,6 +57,28 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PA
 #define BTOCL_CONTROL_HAS_PENETRATION 5  // some row has a split-impulse share (rhsPenetration != 0)
 #define BTOCL_CONTROL_SIZE 8
 
+// The progress buffer of solveStepClaimed (kernels/solve.cl), all zero at the launch, in ints:
+// each work-group's count of finished groups, a cache line apart (written by its owner, read by
+// the others while they wait); one squared residual per iteration (float bits), the split-
+// impulse iterations first; then each work-group's claim counters, one per pass and set.
+#define BTOCL_PROGRESS_LINE 16
+BTOCL_INLINE int btoclPassesOfStep(int warmStart, int penetrationIterations, int numIterations, int maxIterations) {
+    const int withFriction = numIterations < maxIterations ? numIterations : maxIterations;
+    return warmStart + penetrationIterations + 2 * withFriction + (maxIterations - withFriction);
+}
+BTOCL_INLINE int btoclRoundToLine(int n) { return (n + BTOCL_PROGRESS_LINE - 1) / BTOCL_PROGRESS_LINE * BTOCL_PROGRESS_LINE; }
+BTOCL_INLINE int btoclProgressResiduals(int workGroups) { return workGroups * BTOCL_PROGRESS_LINE; }
+BTOCL_INLINE int btoclProgressClaims(int workGroups, int penetrationIterations, int maxIterations) {
+    return btoclRoundToLine(btoclProgressResiduals(workGroups) + penetrationIterations + maxIterations);
+}
+BTOCL_INLINE int btoclProgressClaimsPerGroup(int numPasses) {
+    return btoclRoundToLine(numPasses * (BTOCL_OVERFLOW_SET + 1));
+}
+BTOCL_INLINE int btoclProgressSize(int workGroups, int numPasses, int penetrationIterations, int maxIterations) {
+    return btoclProgressClaims(workGroups, penetrationIterations, maxIterations) +
+           workGroups * btoclProgressClaimsPerGroup(numPasses);
+}
+
 // Scalars are packed into the w lanes of float4 fields (a record stays a whole number of 16-byte
 // lines). Each lane has one name, below its record; use the names, never `.w`.
 

@@ -31,16 +31,16 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
 }
 
 // Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order,
-// with the lanes of the path under test; wholeStep: in one launch rather than per set and pass.
+// with the lanes of the path under test; launch: one launch per set and pass, or the whole step in one (SolveLaunch).
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                         std::vector<btoclRow>* rows = nullptr, bool wholeStep = false) {
+                         std::vector<btoclRow>* rows = nullptr, SolveLaunch launch = SolveLaunch::PerSet) {
     OclRuntime rt("");
     DevicePrimitives primitives(rt, testBackend());
     DeviceSolver solver(rt, primitives, testLanesPerGroup());
     solver.upload(p);
     DeviceLayoutView view = solver.uploadLayout(layout);
-    view.wholeStep = wholeStep;
+    view.launch = launch;
     solver.arrange(p, view);
     solver.iterate(p, view, settings);
     const int iterations = solver.download(p, settings);

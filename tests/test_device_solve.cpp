@@ -36,8 +36,9 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
     const bool rotate = GENERATE(false, true);
-    const bool wholeStep = GENERATE(false, true);  // one launch, or one per set and pass
-    CAPTURE(mode, rotate, wholeStep);
+    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    CAPTURE(mode, rotate, int(launch));
+    if (launch == SolveLaunch::Claimed && testsRunWide()) return;  // one lane a group: the serial path's
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     StepProblem host = gatherPileProblem(w, info);
@@ -47,7 +48,7 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     const SolveSettings settings = SolveSettings::from(info, rotate);
 
     solveOnHost(host, layout, settings);
-    solveOnDevice(dev, layout, settings, nullptr, wholeStep);
+    solveOnDevice(dev, layout, settings, nullptr, launch);
 
     // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
     // changes the last bits of each row update: 1e-4 relative over 10 iterations bounds that.
@@ -74,10 +75,11 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
     const SolveSettings settings = SolveSettings::from(info, true);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
-    const bool wholeStep = GENERATE(false, true);
-    CAPTURE(wholeStep);
+    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    CAPTURE(int(launch));
+    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
     const int hostIterations = solveOnHost(host, layout, settings);
-    const int deviceIterations = solveOnDevice(dev, layout, settings, nullptr, wholeStep);
+    const int deviceIterations = solveOnDevice(dev, layout, settings, nullptr, launch);
     INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
     // The threshold is reached before the cap, and at the same iteration: the device computes
     // SI's residual (impulse change over the row's effective mass) as the host does; a rounding
@@ -113,8 +115,11 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     REQUIRE(layout.setGroupStart[BTOCL_NUM_SETS] > 8);
     REQUIRE(validateBatchLayout(layout, host.constraints) == "");
     const SolveSettings settings = SolveSettings::from(info, true);
+    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::Claimed);
+    CAPTURE(int(launch));
+    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
     solveOnHost(host, layout, settings);
-    solveOnDevice(dev, layout, settings);
+    solveOnDevice(dev, layout, settings, nullptr, launch);
     // As above: fused multiply-adds change the last bits of each row update.
     float worst = 0;
     for (size_t i = 0; i < host.deltas.size(); ++i) {
