@@ -7,6 +7,15 @@ namespace {
 
 constexpr size_t kLanes = 64;  // local size of the launches over constraints, rows and points
 
+// Groups taken by one claim of solveStepClaimed: about kConstraintsPerClaim constraints' worth
+// (a claim is an atomic add on a counter the other work-groups may touch; columns 12K has 15
+// constraints a group, block 12K 180).
+int groupsPerClaim(const StepProblem& p, int numGroups) {
+    constexpr int kConstraintsPerClaim = 64;
+    const int perGroup = std::max(1, int(p.constraints.size()) / std::max(1, numGroups));
+    return std::max(1, kConstraintsPerClaim / perGroup);
+}
+
 }  // namespace
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
@@ -127,7 +136,7 @@ void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& l
     setArgs(m_claimed, *layout.groups, start[BTOCL_NUM_SETS + 1], setGroupStart, m_placed.buffer(),
             m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,
-            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations);
+            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations, groupsPerClaim(p, start[BTOCL_NUM_SETS + 1]));
     m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
 }
 

@@ -211,13 +211,14 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // It cannot deadlock, however few work-groups the device runs at once: a work-group waits only
 // once it has found every group of the set taken, and a group is taken only by a running
 // work-group, which finishes it without waiting on anything (one that never starts takes none).
-// progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says).
+// progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says). groupsPerClaim:
+// groups taken at once, so that a claim (one atomic) buys enough work.
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     __global const btoclGroup* groups, int numGroups, int8 setGroupStart, __global const btoclConstraint* constraints,
     __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
     __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
     __global int* control, __global int* progress, int flags, int numIterations, int maxIterations, float threshold,
-    int warmStart, int penetrationIterations) {
+    int warmStart, int penetrationIterations, int groupsPerClaim) {
     const int setStart[BTOCL_NUM_SETS + 2] = {setGroupStart.s0, setGroupStart.s1, setGroupStart.s2,
                                               setGroupStart.s3, setGroupStart.s4, setGroupStart.s5};
     const int self = get_group_id(0), numRanges = get_num_groups(0);
@@ -249,7 +250,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                 const int range = self + k < numRanges ? self + k : self + k - numRanges;
                 const int2 r = claimRange(first, count, range, numRanges);
                 __global int* counter = claims + range * claimsPerGroup + passIndex * (BTOCL_OVERFLOW_SET + 1) + set;
-                for (int group = r.x + atomic_inc(counter); group < r.y; group = r.x + atomic_inc(counter)) {
+                for (int claimed = r.x + atomic_add(counter, groupsPerClaim); claimed < r.y;
+                     claimed = r.x + atomic_add(counter, groupsPerClaim))
+                    for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
                     if (solve) {
                         // The pass as a constant in each call, so that the compiler folds its branches away.
                         const btoclGroup g = groups[group];
@@ -267,10 +270,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                             atomic_max(residuals + p.residual, as_int(groupResidual2));
                     }
                     ++finishedHere;
-                    mem_fence(CLK_GLOBAL_MEM_FENCE);  // this group's writes, before its count
-                    *(volatile __global int*)finished = finishedHere;
                 }
             }
+            // Every group of the set is taken, and those taken here are finished: published once
+            // a set (a count written for each group would bounce its cache line between the
+            // cores as the others read it).
+            mem_fence(CLK_GLOBAL_MEM_FENCE);  // this work-group's writes, before its count
+            *(volatile __global int*)finished = finishedHere;
         }
     }
     // Every work-group saw the same residuals at the same places, so any one can tell.

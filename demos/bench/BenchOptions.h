@@ -15,6 +15,7 @@ struct BenchOptions {
     bool runSi = true, runOurs = true;
     std::string solvePath = "auto";    // btOpenCLSolverConfig::solvePath
     std::string order = "fixed";       // btOpenCLSolverConfig::rotatePoints
+    int wholeStepMaxRows = -1;         // btOpenCLSolverConfig::wholeStepMaxRows
     bool withSiRandomized = false;     // a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER
     bool standIn = false;        // put a second Bullet SI solver where ours goes (checks the harness)
     bool validate = false;       // btOpenCLSolverConfig::validate

@@ -74,6 +74,7 @@ int run(const BenchOptions& options) {
                        : options.solvePath == "wide" ? btOpenCLSolvePath::Wide
                                                      : btOpenCLSolvePath::Auto;
     config.rotatePoints = options.order == "rotated";
+    config.wholeStepMaxRows = options.wholeStepMaxRows;
     std::unique_ptr<SolverSide> si, ours, siRandomized;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)
