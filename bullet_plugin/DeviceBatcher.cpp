@@ -77,8 +77,11 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
+    if (options.setStartsOnDevice && options.localBatches)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: set starts on the device need a layout without local batches");
     m_options = options;
     m_n = n;
+    m_summaryPending = false;
     m_setGroupStart.fill(0);
     m_stats = DeviceBatchStats{};
     m_statsReady = false;
@@ -113,6 +116,23 @@ void DeviceBatcher::layOutOneGroup(int n) {
     if (!m_options.localBatches) m_batchEnd.fill(m_rt, n, 1);
     m_setGroupStart.fill(1);
     m_setGroupStart[0] = 0;
+    if (m_options.setStartsOnDevice) {
+        std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
+        m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
+    }
+}
+
+void DeviceBatcher::takeSummary(const int* summary) const {
+    for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
+    m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
+    m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
+    std::memcpy(&m_stats.cellSize, &summary[BTOCL_NUM_SETS + 3], sizeof(float));
+    m_summaryPending = false;
+}
+
+const std::array<int, BTOCL_NUM_SETS + 2>& DeviceBatcher::setGroupStart() const {
+    if (m_summaryPending) takeSummary(m_summaryHost.data());  // the queue has finished: read back
+    return m_setGroupStart;
 }
 
 // The global split (DESIGN §1): cell keys, a stable sort by key, one group per non-empty cell.
@@ -159,16 +179,18 @@ void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int 
             m_summary.buffer());
     m_rt.launch(m_splitWriteSummary, 1, 0, "enqueueing splitWriteSummary");
 
+    if (m_options.setStartsOnDevice) {  // read with the step's last wait
+        m_summary.enqueueRead(rt, m_summaryHost.data(), kSummaryInts);
+        m_summaryPending = true;
+        return;
+    }
     // The one read-back: the launches over groups need the number of groups.
-    int summary[kSummaryInts];
-    m_summary.read(rt, summary, kSummaryInts);
-    for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
-    m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
-    m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
-    std::memcpy(&m_stats.cellSize, &summary[BTOCL_NUM_SETS + 3], sizeof(float));
+    m_summary.read(rt, m_summaryHost.data(), kSummaryInts);
+    takeSummary(m_summaryHost.data());
 }
 
 const DeviceBatchStats& DeviceBatcher::stats() const {
+    setGroupStart();  // takes a summary read back with the step's last wait
     if (m_statsReady) return m_stats;
     // Without local batches every group is one run.
     long long sum = m_groupsHost.empty() ? numGroups() : 0;
@@ -188,7 +210,7 @@ BatchLayout DeviceBatcher::download() const {
     layout.solveOrder = solveOrder().read(m_rt, size_t(m_n));
     layout.batchEnd = m_batchEnd.read(m_rt, size_t(m_n));
     layout.groups = m_groups.read(m_rt, size_t(numGroups()));
-    layout.setGroupStart = m_setGroupStart;
+    layout.setGroupStart = setGroupStart();
     layout.cellSize = m_stats.cellSize;
     layout.numOverflowConstraints = m_stats.numOverflowConstraints;
     layout.serialRuns = !m_options.localBatches;

@@ -24,6 +24,11 @@ struct LayoutOptions {
     // Wide path: local batches of independent constraints per group. Serial path: none; a group
     // is one run that one work-item walks in order (numBatches 1).
     bool localBatches = true;
+    // The solve reads the set starts on the device (setGroupStartBuffer()): the split's summary is
+    // read back without a wait of its own, with the step's last wait, and setGroupStart(),
+    // numGroups() and stats() are valid only after it. Without local batches only (the batch
+    // kernel's launch needs the number of groups).
+    bool setStartsOnDevice = false;
 };
 
 struct DeviceBatchStats {
@@ -43,7 +48,8 @@ public:
 
     // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
     // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
-    // edge), needed to size the launches over groups (a one-group layout has none). The split's
+    // edge), needed to size the launches over groups (none with options.setStartsOnDevice, none
+    // for a one-group layout). The split's
     // commands are timed as DevicePhase::Split, the batch kernel's as DevicePhase::Batch.
     // bodies: one entry per body index the constraints use. Throws btOpenCLSolverError on bad
     // parameters or a device error.
@@ -54,8 +60,10 @@ public:
     const DeviceBuffer<int>& solveOrder() const { return m_options.localBatches ? m_solveOrder : m_sorted; }
     const DeviceBuffer<int>& batchEnd() const { return m_batchEnd; }
     const DeviceBuffer<btoclGroup>& groups() const { return m_groups; }
-    const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const { return m_setGroupStart; }
-    int numGroups() const { return m_setGroupStart[BTOCL_NUM_SETS + 1]; }
+    const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const;
+    int numGroups() const { return setGroupStart()[BTOCL_NUM_SETS + 1]; }
+    // The set starts on the device: BTOCL_NUM_SETS + 2 ints, as setGroupStart().
+    const DeviceBuffer<int>& setGroupStartBuffer() const { return m_summary; }
 
     // Valid once the queue has finished the build's commands (the batch counts are read back
     // without a wait of their own).
@@ -75,6 +83,7 @@ private:
     };
     BatchProgram& batchProgram(int workGroupSize);
     void layOutOneGroup(int n);
+    void takeSummary(const int* summary) const;
     void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params);
 
@@ -97,9 +106,10 @@ private:
     std::vector<btoclGroup> m_groupsHost;  // the batch counts, read back with the step's last wait
     std::vector<int> m_identityHost;       // a one-group layout's order, likewise
     btoclGroup m_oneGroupHost{};
-
+    std::array<int, BTOCL_NUM_SETS + 4> m_summaryHost{};  // the split's summary, read back (or a one-group layout's)
     int m_n = 0;
-    std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};
+    mutable std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};
+    mutable bool m_summaryPending = false;  // read back with the step's last wait, not taken yet
     mutable DeviceBatchStats m_stats;
     mutable bool m_statsReady = true;
 };

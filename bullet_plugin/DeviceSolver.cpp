@@ -7,14 +7,6 @@ namespace {
 
 constexpr size_t kLanes = 64;  // local size of the launches over constraints, rows and points
 
-// Groups taken by one claim of solveStepClaimed: about kConstraintsPerClaim constraints' worth
-// (a claim is an atomic add on a counter the other work-groups may touch; columns 12K has 15
-// constraints a group, block 12K 180).
-int groupsPerClaim(const StepProblem& p, int numGroups) {
-    constexpr int kConstraintsPerClaim = 64;
-    const int perGroup = std::max(1, int(p.constraints.size()) / std::max(1, numGroups));
-    return std::max(1, kConstraintsPerClaim / perGroup);
-}
 
 }  // namespace
 
@@ -56,7 +48,9 @@ DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
     m_groups.write(m_rt, layout.groups);
     m_solveOrder.write(m_rt, layout.solveOrder);
     m_batchEnd.write(m_rt, layout.batchEnd);
+    m_setGroupStart.write(m_rt, layout.setGroupStart.data(), layout.setGroupStart.size());
     DeviceLayoutView view;
+    view.setGroupStartOnDevice = &m_setGroupStart.buffer();
     view.groups = &m_groups.buffer();
     view.solveOrder = &m_solveOrder.buffer();
     view.batchEnd = &m_batchEnd.buffer();
@@ -131,12 +125,10 @@ void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& l
     const int workGroups = int(m_computeUnits);
     m_progressStart.assign(size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)), 0);
     m_progress.enqueueWrite(m_rt, m_progressStart);
-    const std::array<int, BTOCL_NUM_SETS + 2>& start = layout.setGroupStart;
-    const cl_int8 setGroupStart = {{start[0], start[1], start[2], start[3], start[4], start[5], 0, 0}};
-    setArgs(m_claimed, *layout.groups, start[BTOCL_NUM_SETS + 1], setGroupStart, m_placed.buffer(),
+    setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),
             m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,
-            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations, groupsPerClaim(p, start[BTOCL_NUM_SETS + 1]));
+            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations);
     m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
 }
 

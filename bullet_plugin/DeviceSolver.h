@@ -26,7 +26,8 @@ struct DeviceLayoutView {
     const cl::Buffer* groups = nullptr;
     const cl::Buffer* solveOrder = nullptr;
     const cl::Buffer* batchEnd = nullptr;
-    std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};
+    std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};  // per-set and whole-step launches
+    const cl::Buffer* setGroupStartOnDevice = nullptr;    // the same on the device: claimed launches
     SolveLaunch launch = SolveLaunch::PerSet;
 };
 
@@ -74,7 +75,7 @@ private:
     DeviceBuffer<btoclContactPoint> m_points;
     DeviceBuffer<btoclFloat4> m_lateralDirs;
     DeviceBuffer<btoclGroup> m_groups;
-    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
+    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_setGroupStart, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     DeviceBuffer<int> m_progress;                                // solveStepClaimed's tickets and residuals

@@ -201,13 +201,16 @@ struct btOpenCLConstraintSolver::Impl {
             btocl::LayoutOptions layout;
             layout.oneGroup = solveWhole(p);
             layout.localBatches = wide();
-            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
             btocl::DeviceLayoutView view;
             view.launch = layout.oneGroup ? btocl::SolveLaunch::WholeStep : splitLaunch();
+            // The claimed launch reads the set starts on the device: no wait for the split.
+            layout.setStartsOnDevice = view.launch == btocl::SolveLaunch::Claimed;
+            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
             view.groups = &batcher.groups().buffer();
             view.solveOrder = &batcher.solveOrder().buffer();
             view.batchEnd = &batcher.batchEnd().buffer();
-            view.setGroupStart = batcher.setGroupStart();
+            view.setGroupStartOnDevice = &batcher.setGroupStartBuffer().buffer();
+            if (!layout.setStartsOnDevice) view.setGroupStart = batcher.setGroupStart();
             if (config.validate) {
                 runtime.endPhases();  // the validation's read-back is not a part of the step
                 const std::string failure = btocl::validateBatchLayout(batcher.download(), p.constraints);

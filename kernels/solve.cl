@@ -211,16 +211,21 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // It cannot deadlock, however few work-groups the device runs at once: a work-group waits only
 // once it has found every group of the set taken, and a group is taken only by a running
 // work-group, which finishes it without waiting on anything (one that never starts takes none).
-// progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says). groupsPerClaim:
-// groups taken at once, so that a claim (one atomic) buys enough work.
+// setGroupStart: BTOCL_NUM_SETS + 2 ints, read here so that the host need not wait for the
+// split. progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
-    __global const btoclGroup* groups, int numGroups, int8 setGroupStart, __global const btoclConstraint* constraints,
+    __global const btoclGroup* groups, __global const int* setGroupStart, int numConstraints,
+    __global const btoclConstraint* constraints,
     __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
     __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
     __global int* control, __global int* progress, int flags, int numIterations, int maxIterations, float threshold,
-    int warmStart, int penetrationIterations, int groupsPerClaim) {
-    const int setStart[BTOCL_NUM_SETS + 2] = {setGroupStart.s0, setGroupStart.s1, setGroupStart.s2,
-                                              setGroupStart.s3, setGroupStart.s4, setGroupStart.s5};
+    int warmStart, int penetrationIterations) {
+    int setStart[BTOCL_NUM_SETS + 2];
+    for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
+    const int numGroups = setStart[BTOCL_NUM_SETS + 1];
+    // Groups taken by one claim (an atomic add on a counter the others may touch): about 64
+    // constraints' worth (columns 12K has 15 constraints a group, block 12K 180).
+    const int groupsPerClaim = max(1, 64 / max(1, numConstraints / max(1, numGroups)));
     const int self = get_group_id(0), numRanges = get_num_groups(0);
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
     const int numPasses = btoclPassesOfStep(warmStart, penetrationIterations, numIterations, maxIterations);
