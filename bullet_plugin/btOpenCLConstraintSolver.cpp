@@ -43,14 +43,14 @@ private:
 // split and the sets' groups solved side by side would save less than they cost.
 // - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
 // - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
-//   units. Measured on PoCL (2 cores; btocl_bench, whole against split, ms a step), with the split
-//   launched per set and pass: pile 1,000 3.2 / 5.0, pile 10,000 (72K rows) 30.5 / 35.8, columns
-//   12,000 (118K rows) 30.5 / 34.6, block 3,000 (137K rows) 31.3 / 29.1, block 12,000 159 / 119;
-//   with the split claimed in one launch (solveStepClaimed): pile 1,000 2.4 / 3.3, columns 12,000
-//   24.8 / 25.4, block 12,000 113 (split). Memory, not the launches, bounds the larger solves. The crossover, about 128K rows on 2 units, falls as units are added (the split
-//   saves a larger share): rows at most 64K x units / (units - 1), without limit on one unit.
+//   units in one claimed launch (solveStepClaimed). Measured on PoCL (2 cores; btocl_bench
+//   --whole-step-max-rows 0 against whole, ms a step, same runs of SI): pile 1,000 (8K rows) 3.55
+//   / 2.49, pile 2,500 (20K rows) 8.2 / 7.6, block 800 (35K rows) 6.7 / 7.2, block 1,500 11.4 /
+//   13.3, columns 12,000 (97K rows) 18.7 / 24.1. The crossover, about 30K rows on 2 units, falls
+//   as units are added (the split saves a larger share): rows at most 16K x units / (units - 1),
+//   without limit on one unit.
 constexpr int kWholeStepMaxConstraintsWide = 1024;
-constexpr double kWholeStepRowsPerUnitShare = 65536;
+constexpr double kWholeStepRowsPerUnitShare = 16384;
 
 double wholeStepMaxRowsSerial(const btocl::OclRuntime& runtime) {
     const double units = double(runtime.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());

@@ -182,7 +182,7 @@ TEST_CASE("a step of many constraints is split into cell groups", "[api]") {
 
 TEST_CASE("by default a step is solved whole up to a size that depends on the solve path", "[api]") {
     // 1,800 manifolds, about 14,000 rows: past the wide path's 1,024 constraints, within the
-    // serial path's rows (at least 64K, more on fewer compute units).
+    // serial path's rows (at least 16K, more on fewer compute units).
     btOpenCLSolverConfig config;  // wholeStepMaxRows automatic
     World w(SolverKind::OpenCL, config);
     w.addGround();
@@ -191,7 +191,7 @@ TEST_CASE("by default a step is solved whole up to a size that depends on the so
     const btOpenCLSolverStats& s = w.openCL()->getLastStats();
     CAPTURE(s.numConstraintRows, s.numGroups);
     REQUIRE(s.numConstraintRows > 4096);
-    REQUIRE(s.numConstraintRows < 65536);
+    REQUIRE(s.numConstraintRows < 16384);
     CHECK(s.solvedWholeStep == (w.openCL()->getSolvePath() == btOpenCLSolvePath::Serial));
     // Asked for, every step is split.
     config.wholeStepMaxRows = 0;
