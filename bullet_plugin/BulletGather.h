@@ -52,6 +52,7 @@ private:
         bool maySplit = false;
     };
     int namedBodyOf(btCollisionObject* object);
+    int knownBodyOf(const btCollisionObject* object) const;
     int nameSolverBody(btRigidBody* rb);
     void fillNewBodies();
     void fillSolverBody(int index);
