@@ -46,6 +46,7 @@ public:
     void write(const OclRuntime& rt, const T* data, size_t n) {
         reserve(rt, n);
         if (n == 0) return;
+        rt.releaseQueue();  // a blocking copy must not wait on a held queue
         checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_TRUE, 0, n * sizeof(T), data, nullptr, rt.phaseEvent()),
                 "writing a device buffer");
     }
@@ -72,6 +73,7 @@ public:
     // Copies elements [offset, offset + n) back and waits for them.
     void read(const OclRuntime& rt, T* data, size_t n, size_t offset = 0) const {
         if (n == 0) return;
+        rt.releaseQueue();  // a blocking copy must not wait on a held queue
         checkCl(rt.queue().enqueueReadBuffer(m_buffer, CL_TRUE, offset * sizeof(T), n * sizeof(T), data, nullptr,
                                              rt.phaseEvent()),
                 "reading a device buffer");

@@ -222,9 +222,37 @@ void OclRuntime::launch(const cl::Kernel& kernel, size_t items, size_t local, co
             what);
 }
 
-void OclRuntime::finish(const char* what) const { checkCl(m_queue.finish(), what); }
+void OclRuntime::holdQueue() const {
+    releaseQueue();
+    cl_int err = CL_SUCCESS;
+    m_gate = cl::UserEvent(m_context, &err);
+    checkCl(err, "creating a user event");
+    const std::vector<cl::Event> gate{m_gate};
+    m_held = true;
+    try {
+        checkCl(m_queue.enqueueMarkerWithWaitList(&gate), "holding the queue");
+    } catch (...) {
+        releaseQueue();
+        throw;
+    }
+}
 
-void OclRuntime::drain() const noexcept { m_queue.finish(); }
+void OclRuntime::releaseQueue() const noexcept {
+    if (!m_held) return;
+    m_held = false;
+    m_gate.setStatus(CL_COMPLETE);
+    m_queue.flush();
+}
+
+void OclRuntime::finish(const char* what) const {
+    releaseQueue();
+    checkCl(m_queue.finish(), what);
+}
+
+void OclRuntime::drain() const noexcept {
+    releaseQueue();
+    m_queue.finish();
+}
 
 double eventMs(const cl::Event& event) {
     if (!event()) return 0;

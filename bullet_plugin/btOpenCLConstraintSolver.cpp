@@ -190,6 +190,9 @@ struct btOpenCLConstraintSolver::Impl {
             // The device's part: enqueued without waits but for the split's group counts, timed by
             // profiling events per phase, waited for once at the read-back.
             runtime.clearPhases();
+            // Serial path: the step's commands enqueued whole before PoCL starts them (OclRuntime.h);
+            // the wide path's sort and scan (Boost.Compute) may wait on the queue themselves.
+            if (!wide()) runtime.holdQueue();
             runtime.beginPhase(btocl::DevicePhase::Upload);
             device.upload(p);
 
