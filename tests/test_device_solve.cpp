@@ -4,6 +4,7 @@
 #include "GatherAndSolve.h"
 #include "LayoutValidator.h"
 #include "HostSolver.h"
+#include "JointScenes.h"
 #include "Scenes.h"
 #include "SerialLayout.h"
 #include "StepProblem.h"
@@ -130,4 +131,52 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
         worst = std::max(worst, relDiff(host.appliedImpulses[size_t(i)], dev.appliedImpulses[size_t(i)]));
     INFO("worst relative difference " << worst);
     CHECK(worst < 1e-4f);
+}
+
+TEST_CASE("joints that ask for more iterations than the contacts get are solved on as the host reference does",
+          "[solve][joints]") {
+    // A kicked chain whose joints ask for 30 iterations beside a pile whose contacts get 4: the
+    // launches run 26 passes of joint rows alone past the contacts' count, and they matter (the
+    // test first checks that stopping at 4 would give other velocities).
+    World w(SolverKind::Reference);
+    groundAndPile(w, 16);
+    testworld::addChain(w, btVector3(8, 12, 0), 10, 3);
+    for (btTypedConstraint* c : w.constraints()) c->setOverrideNumSolverIterations(30);
+    btContactSolverInfo info = w.stepInfo();
+    info.m_numIterations = 4;
+    for (int i = 0; i < 20; ++i) w.step();
+    StepProblem host = gatherProblem(w, info, RowSetup::Host);
+    REQUIRE(host.numJointRows() > 0);
+    REQUIRE(host.numContactPoints() > 0);
+    SolveSettings settings = SolveSettings::from(info, false);
+    settings.maxIterations = host.maxIterations(settings.numIterations);
+    REQUIRE(settings.maxIterations == 30);
+    const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
+    auto worstGap = [](const StepProblem& a, const StepProblem& b) {
+        float worst = 0;
+        for (size_t i = 0; i < a.deltas.size(); ++i) {
+            worst = std::max(worst, relDiff(a.deltas[i].deltaLinearVelocity.y, b.deltas[i].deltaLinearVelocity.y));
+            worst = std::max(worst, relDiff(a.deltas[i].deltaAngularVelocity.z, b.deltas[i].deltaAngularVelocity.z));
+        }
+        for (size_t i = 0; i < a.appliedImpulses.size(); ++i)
+            worst = std::max(worst, relDiff(a.appliedImpulses[i], b.appliedImpulses[i]));
+        return worst;
+    };
+    StepProblem shortRun = host;  // the joints cut to the contacts' 4 iterations
+    for (btoclConstraint& c : shortRun.constraints)
+        if (c.numRows[BTOCL_ROWS_JOINT] > 0) BTOCL_CONSTRAINT_ITERATIONS(c) = float(settings.numIterations);
+    SolveSettings shortSettings = settings;
+    shortSettings.maxIterations = settings.numIterations;
+    solveOnHost(shortRun, layout, shortSettings);
+    StepProblem dev = host;
+    solveOnHost(host, layout, settings);
+    REQUIRE(worstGap(host, shortRun) > 1e-2f);  // the extra passes change the result
+
+    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    CAPTURE(int(launch));
+    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
+    solveOnDevice(dev, layout, settings, nullptr, launch);
+    const float worst = worstGap(host, dev);
+    INFO("worst relative difference " << worst);
+    CHECK(worst < 1e-4f);  // as above: fused multiply-adds on the device
 }
