@@ -193,6 +193,7 @@ void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
     for (int i = 0; i < numBodies; ++i) namedBodyOf(bodies[i]);
     fillNewBodies();
 }
+
 void StepGatherer::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
     m_manifolds.insert(m_manifolds.end(), manifolds, manifolds + numManifolds);
 }

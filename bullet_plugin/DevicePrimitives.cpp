@@ -49,8 +49,7 @@ size_t ceilDiv(size_t a, size_t b) { return (a + b - 1) / b; }
 
 DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend) : m_rt(rt), m_backend(backend) {
     if (m_backend == Backend::Auto) m_backend = rt.isCpu() ? Backend::Chunked : Backend::BoostCompute;
-    const size_t units = std::max<cl_uint>(1, rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
-    m_maxChunks = std::min<size_t>(4 * units, 256);  // a few chunks per core balance the load
+    m_maxChunks = std::min<size_t>(4 * rt.computeUnits(), 256);  // a few chunks per core balance the load
 
     if (m_backend == Backend::Chunked) {
         const cl::Program program = rt.buildProgramFile("primitives.cl");

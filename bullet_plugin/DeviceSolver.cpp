@@ -1,12 +1,9 @@
 #include "DeviceSolver.h"
 
-#include <algorithm>
-
 namespace btocl {
 namespace {
 
 constexpr size_t kLanes = 64;  // local size of the launches over constraints, rows and points
-
 
 }  // namespace
 
@@ -20,7 +17,6 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
     m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
     m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
-    m_computeUnits = std::max<cl_uint>(1, m_rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     m_setupProgram = m_rt.buildProgramFile("setup.cl");
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
     m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
@@ -122,7 +118,7 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
 void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     const int penetrationIterations = s.splitImpulse && p.maySplitPenetration ? s.numIterations : 0;
     const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, penetrationIterations, s.numIterations, s.maxIterations);
-    const int workGroups = int(m_computeUnits);
+    const int workGroups = int(m_rt.computeUnits());
     m_progressStart.assign(size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)), 0);
     m_progress.enqueueWrite(m_rt, m_progressStart);
     setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),

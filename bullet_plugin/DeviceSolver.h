@@ -1,7 +1,7 @@
 // The iterations on the device: uploads a step's bodies and constraints, lays constraints and
-// rows out in solve order, sets the rows up, launches the iterations (one kernel per set and
-// pass, or the whole step in one launch) with no host round trip between them, and reads back the velocity changes and
-// applied impulses. Buffers are kept and grown from step to step.
+// rows out in solve order, sets the rows up, launches the iterations (SolveLaunch) with no host
+// round trip between them, and reads back the velocity changes and applied impulses. Buffers
+// are kept and grown from step to step.
 #pragma once
 
 #include "BatchLayout.h"
@@ -18,7 +18,7 @@ namespace btocl {
 enum class SolveLaunch {
     PerSet,     // one launch per set and pass: the groups of a set side by side
     WholeStep,  // one launch of one work-group: every group of every pass in turn
-    Claimed,    // serial path: one launch of a lane per compute unit, taking (pass, set, group) in turn
+    Claimed,    // serial path: one launch of a lane per compute unit, claiming each set's groups in turn
 };
 
 // Where the solve finds the split/batch layout: the device batcher's buffers or uploaded ones.
@@ -78,9 +78,8 @@ private:
     DeviceBuffer<int> m_solveOrder, m_batchEnd, m_setGroupStart, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
-    DeviceBuffer<int> m_progress;                                // solveStepClaimed's tickets and residuals
-    std::vector<int> m_controlStart, m_progressStart;           // the control block as uploaded
-    size_t m_computeUnits = 1;
+    DeviceBuffer<int> m_progress;  // solveStepClaimed's finished counts, residuals and claim counters
+    std::vector<int> m_controlStart, m_progressStart;           // the control and progress blocks as uploaded
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};         // ... and as read back
 };
 

@@ -165,6 +165,7 @@ OclRuntime::OclRuntime(const std::string& deviceSpec) {
         checkCl(err, "creating the OpenCL command queue");
     }
     m_maxWorkGroupSize = m_device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+    m_computeUnits = std::max<cl_uint>(1, m_device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     m_localMemSize = m_device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
     m_maxAllocSize = m_device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
 }

@@ -49,6 +49,8 @@ public:
     size_t maxWorkGroupSize() const { return m_maxWorkGroupSize; }
     size_t localMemSize() const { return m_localMemSize; }
     size_t maxAllocSize() const { return m_maxAllocSize; }
+    // CL_DEVICE_MAX_COMPUTE_UNITS, at least 1.
+    size_t computeUnits() const { return m_computeUnits; }
 
     // Builds kernels/<file> (includes inlined). Throws with the compiler's log on failure.
     cl::Program buildProgramFile(const std::string& file, const std::string& options = "") const;
@@ -101,7 +103,7 @@ private:
     std::string m_deviceName;
     bool m_isCpu = false;
     bool m_profiling = false;
-    size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0;
+    size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0, m_computeUnits = 1;
     mutable size_t m_bufferBytes = 0;
     mutable int m_phase = -1;
     mutable cl::UserEvent m_gate;  // what a held queue waits on

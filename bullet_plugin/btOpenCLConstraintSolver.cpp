@@ -53,7 +53,7 @@ constexpr int kWholeStepMaxConstraintsWide = 1024;
 constexpr double kWholeStepRowsPerUnitShare = 16384;
 
 double wholeStepMaxRowsSerial(const btocl::OclRuntime& runtime) {
-    const double units = double(runtime.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+    const double units = double(runtime.computeUnits());
     if (units <= 1) return std::numeric_limits<double>::infinity();
     return kWholeStepRowsPerUnitShare * units / (units - 1);
 }
