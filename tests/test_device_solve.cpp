@@ -29,6 +29,21 @@ StepProblem gatherPileProblem(World& w, const btContactSolverInfo& info, RowSetu
     return gatherProblem(w, info, setup);
 }
 
+// The largest relative gap between two solves of one problem: velocity changes (linear, angular,
+// push) and every row's applied impulse.
+float worstSolveGap(const StepProblem& a, const StepProblem& b) {
+    float worst = 0;
+    for (size_t i = 0; i < a.deltas.size(); ++i) {
+        worst = std::max(worst, relDiff(a.deltas[i].deltaLinearVelocity.y, b.deltas[i].deltaLinearVelocity.y));
+        worst = std::max(worst, relDiff(a.deltas[i].deltaAngularVelocity.x, b.deltas[i].deltaAngularVelocity.x));
+        worst = std::max(worst, relDiff(a.deltas[i].deltaAngularVelocity.z, b.deltas[i].deltaAngularVelocity.z));
+        worst = std::max(worst, relDiff(a.deltas[i].pushVelocity.y, b.deltas[i].pushVelocity.y));
+    }
+    for (size_t i = 0; i < a.appliedImpulses.size(); ++i)
+        worst = std::max(worst, relDiff(a.appliedImpulses[i], b.appliedImpulses[i]));
+    return worst;
+}
+
 }  // namespace
 
 TEST_CASE("device solve matches the serial host reference on a gathered pile", "[solve]") {
@@ -53,14 +68,7 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
 
     // Same operations in the same order; the OpenCL compiler may fuse multiply-adds, which
     // changes the last bits of each row update: 1e-4 relative over 10 iterations bounds that.
-    float worst = 0;
-    for (size_t i = 0; i < host.deltas.size(); ++i) {
-        worst = std::max(worst, relDiff(host.deltas[i].deltaLinearVelocity.y, dev.deltas[i].deltaLinearVelocity.y));
-        worst = std::max(worst, relDiff(host.deltas[i].deltaAngularVelocity.x, dev.deltas[i].deltaAngularVelocity.x));
-        worst = std::max(worst, relDiff(host.deltas[i].pushVelocity.y, dev.deltas[i].pushVelocity.y));
-    }
-    for (int i = 0; i < host.numNormalRows + host.numFrictionRows; ++i)
-        worst = std::max(worst, relDiff(host.appliedImpulses[size_t(i)], dev.appliedImpulses[size_t(i)]));
+    const float worst = worstSolveGap(host, dev);
     INFO("worst relative difference " << worst);
     CHECK(worst < 1e-4f);
 }
@@ -122,13 +130,7 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, launch);
     // As above: fused multiply-adds change the last bits of each row update.
-    float worst = 0;
-    for (size_t i = 0; i < host.deltas.size(); ++i) {
-        worst = std::max(worst, relDiff(host.deltas[i].deltaLinearVelocity.y, dev.deltas[i].deltaLinearVelocity.y));
-        worst = std::max(worst, relDiff(host.deltas[i].deltaAngularVelocity.z, dev.deltas[i].deltaAngularVelocity.z));
-    }
-    for (int i = 0; i < host.numNormalRows + host.numFrictionRows; ++i)
-        worst = std::max(worst, relDiff(host.appliedImpulses[size_t(i)], dev.appliedImpulses[size_t(i)]));
+    const float worst = worstSolveGap(host, dev);
     INFO("worst relative difference " << worst);
     CHECK(worst < 1e-4f);
 }
@@ -152,16 +154,6 @@ TEST_CASE("joints that ask for more iterations than the contacts get are solved 
     settings.maxIterations = host.maxIterations(settings.numIterations);
     REQUIRE(settings.maxIterations == 30);
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    auto worstGap = [](const StepProblem& a, const StepProblem& b) {
-        float worst = 0;
-        for (size_t i = 0; i < a.deltas.size(); ++i) {
-            worst = std::max(worst, relDiff(a.deltas[i].deltaLinearVelocity.y, b.deltas[i].deltaLinearVelocity.y));
-            worst = std::max(worst, relDiff(a.deltas[i].deltaAngularVelocity.z, b.deltas[i].deltaAngularVelocity.z));
-        }
-        for (size_t i = 0; i < a.appliedImpulses.size(); ++i)
-            worst = std::max(worst, relDiff(a.appliedImpulses[i], b.appliedImpulses[i]));
-        return worst;
-    };
     StepProblem shortRun = host;  // the joints cut to the contacts' 4 iterations
     for (btoclConstraint& c : shortRun.constraints)
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) BTOCL_CONSTRAINT_ITERATIONS(c) = float(settings.numIterations);
@@ -170,13 +162,13 @@ TEST_CASE("joints that ask for more iterations than the contacts get are solved 
     solveOnHost(shortRun, layout, shortSettings);
     StepProblem dev = host;
     solveOnHost(host, layout, settings);
-    REQUIRE(worstGap(host, shortRun) > 1e-2f);  // the extra passes change the result
+    REQUIRE(worstSolveGap(host, shortRun) > 1e-2f);  // the extra passes change the result
 
     const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
     CAPTURE(int(launch));
     if (launch == SolveLaunch::Claimed && testsRunWide()) return;
     solveOnDevice(dev, layout, settings, nullptr, launch);
-    const float worst = worstGap(host, dev);
+    const float worst = worstSolveGap(host, dev);
     INFO("worst relative difference " << worst);
     CHECK(worst < 1e-4f);  // as above: fused multiply-adds on the device
 }
