@@ -45,7 +45,7 @@ private:
     // A manifold's share of the step: its bodies, its points in reach and where its records go.
     struct ManifoldSlot {
         int bodyA = 0, bodyB = 0;
-        bool solved = false;  // false: two bodies that cannot move (SI tests the inverse-mass vectors)
+        bool anisotropic = false;  // a body has anisotropic friction (rows set up on the host)
         int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstFriction = 0, firstRolling = 0;

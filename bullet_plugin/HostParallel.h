@@ -21,11 +21,12 @@ inline size_t& minParallelItems() {
     return items;
 }
 
-// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on. An exception thrown
+// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item
+// as `weight` (an item that costs as much as several of a manifold loop's). An exception thrown
 // by f leaves the loop: the one of the lowest index, as the serial loop would have thrown first.
 template <class F>
-void parallelFor(size_t n, F&& f) {
-    if (n < minParallelItems()) {
+void parallelFor(size_t n, F&& f, size_t weight = 1) {
+    if (n * weight < minParallelItems()) {
         for (size_t i = 0; i < n; ++i) f(i);
         return;
     }
