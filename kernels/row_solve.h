@@ -11,7 +11,11 @@
 #ifdef __OPENCL_VERSION__
 #define BTOCL_GLOBAL __global
 #define BTOCL_FLT_MAX FLT_MAX
+// Inlined into each kernel's call with the pass as a constant, so that the pass's branches fold
+// away (PoCL's compiler kept one copy that tested the pass at every row).
+#define BTOCL_SOLVE_INLINE static inline __attribute__((always_inline))
 #else
+#define BTOCL_SOLVE_INLINE BTOCL_INLINE
 #include <float.h>
 #define BTOCL_GLOBAL
 #define BTOCL_FLT_MAX FLT_MAX
@@ -96,7 +100,7 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
 // Friction and rolling rows: the limit follows the normal row's impulse of this iteration
 // (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
 // solveSingleIteration).
-BTOCL_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
+BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
                                           BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
                                           BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
                                           int applyFactors) {
@@ -137,7 +141,7 @@ BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BT
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
-BTOCL_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
+BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
                                         BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
                                         BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
                                         BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,

@@ -175,7 +175,7 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
 }
 
 // One group, one pass, one lane: its batches one after another are its constraints in order.
-inline float solveGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
+BTOCL_SOLVE_INLINE float solveGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
                                __global const btoclSolveRow* rows, __global const int* normalOfRow,
                                __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                                __global btoclBodyDelta* deltas, int pass, int flags, int iteration, int numIterations) {
