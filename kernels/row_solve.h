@@ -101,9 +101,9 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
 // (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
 // solveSingleIteration).
 BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
-                                          BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
-                                          BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
-                                          int applyFactors) {
+                                                BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
+                                                BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
+                                                int applyFactors) {
     float maxResidual2 = 0.0f;
     for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
         BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
@@ -142,10 +142,10 @@ BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BT
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
 BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
-                                        BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
-                                        BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
-                                        BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
-                                        int numIterations) {
+                                              BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
+                                              BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
+                                              BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
+                                              int numIterations) {
     const int push = pass == BTOCL_PASS_PENETRATION;
     const int applyFactors = (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);

@@ -176,9 +176,9 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
 
 // One group, one pass, one lane: its batches one after another are its constraints in order.
 BTOCL_SOLVE_INLINE float solveGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
-                               __global const btoclSolveRow* rows, __global const int* normalOfRow,
-                               __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                               __global btoclBodyDelta* deltas, int pass, int flags, int iteration, int numIterations) {
+                                           __global const btoclSolveRow* rows, __global const int* normalOfRow,
+                                           __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
+                                           __global btoclBodyDelta* deltas, int pass, int flags, int iteration, int numIterations) {
     float maxResidual2 = 0.0f;
     for (int i = g.offset; i < g.offset + g.count; ++i)
         maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
