@@ -1,19 +1,22 @@
-// The host's loops over bodies, manifolds and points, spread over the host's cores with OpenMP
-// (libgomp, which comes with g++: no other package, and no thread pool of our own to keep).
-// Every loop writes only its own item's records, so the result is the serial loop's, bitwise.
+// The host's loops over bodies, manifolds and points, spread over the host's cores by a small pool
+// of threads that sleep between loops. Every loop writes only its own item's records, so the
+// result is the serial loop's, bitwise.
+//
+// Why not OpenMP: after a parallel region libgomp's threads spin-wait for more work (unless the
+// user sets OMP_WAIT_POLICY=passive, read once at load time), and the step's next thing is the
+// device's work, which on PoCL runs on those same cores. Block of 3,000 boxes, our solver alone
+// (btocl_bench --solver ocl, 2 cores): setup 4.5-5.0 and solve 10.8-11.5 ms a step with libgomp's
+// default wait, 3.4-4.0 and 9.3-10.0 with passive threads.
 #pragma once
 
 #include <cstddef>
 #include <exception>
-#include <limits>
 
 namespace btocl {
 
-// Below this many items a loop runs on the calling thread. After a parallel region libgomp's
-// threads spin-wait for more work (unless OMP_WAIT_POLICY=passive), on the cores where PoCL's
-// threads then run the step's kernels: a pyramid of 2,360 contact points took 1.34 ms a step with
-// its write-back in parallel, 1.10 ms with passive threads (PoCL, 2 cores). From about 16K items
-// the loops' gain outweighs that (block 12K: gather 30 -> 20 ms, write-back 7.7 -> 3.9 ms).
+// Below this many items a loop runs on the calling thread (waking the pool costs some tens of
+// microseconds, and the items of a small loop take less). From about 16K items the loops' gain
+// outweighs that (block 12K: gather 30 -> 20 ms, write-back 7.7 -> 3.9 ms).
 // Tests lower it to run small scenes in parallel, and raise it to run large ones serially.
 constexpr size_t kMinParallelItems = 16384;
 inline size_t& minParallelItems() {
@@ -21,30 +24,46 @@ inline size_t& minParallelItems() {
     return items;
 }
 
-// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item
-// as `weight` (an item that costs as much as several of a manifold loop's). An exception thrown
-// by f leaves the loop: the one of the lowest index, as the serial loop would have thrown first.
+// The threads a parallel loop runs on, the calling one included (the host's hardware threads).
+int hostThreads();
+
+// Runs chunk(c) for c in [0, numChunks) over the pool's threads, the calling thread taking part,
+// and returns when every chunk has run. One loop at a time: a second caller (another thread, or
+// a chunk itself) runs its chunks on its own thread. chunk must not throw.
+void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
+
+// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
+// `weight` (an item that costs as much as several of a manifold loop's). The items are split in
+// contiguous ranges, eight per thread, which the threads take as they come, so that a worker
+// that wakes late still takes a share (on this VM about one loop in six of block 12K's ran all
+// its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range: the loop rethrows the one of the
+// lowest index, as the serial loop would have thrown first.
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
-    if (n * weight < minParallelItems()) {
+    const size_t threads = size_t(hostThreads());
+    if (n * weight < minParallelItems() || threads < 2) {
         for (size_t i = 0; i < n; ++i) f(i);
         return;
     }
-    std::exception_ptr error;
-    size_t errorAt = std::numeric_limits<size_t>::max();
-#pragma omp parallel for schedule(static)
-    for (long long i = 0; i < static_cast<long long>(n); ++i) {
-        try {
-            f(static_cast<size_t>(i));
-        } catch (...) {
-#pragma omp critical(btocl_parallel_for_error)
-            if (static_cast<size_t>(i) < errorAt) {
-                errorAt = static_cast<size_t>(i);
-                error = std::current_exception();
+    struct Loop {
+        F& f;
+        size_t n, chunks;
+        std::exception_ptr errors[64];  // the first of each range
+    } loop{f, n, threads * 8 < 64 ? threads * 8 : 64, {}};
+    runChunks(int(loop.chunks), [](void* context, int c) {
+        Loop& l = *static_cast<Loop*>(context);
+        const size_t begin = l.n * size_t(c) / l.chunks, end = l.n * size_t(c + 1) / l.chunks;
+        for (size_t i = begin; i < end; ++i) {
+            try {
+                l.f(i);
+            } catch (...) {
+                l.errors[c] = std::current_exception();
+                return;
             }
         }
-    }
-    if (error) std::rethrow_exception(error);
+    }, &loop);
+    for (size_t c = 0; c < loop.chunks; ++c)  // ranges in order: the first error is the lowest
+        if (loop.errors[c]) std::rethrow_exception(loop.errors[c]);
 }
 
 }  // namespace btocl

@@ -9,9 +9,10 @@
 
 #include <catch2/catch.hpp>
 
-#include <omp.h>
-
+#include <algorithm>
 #include <cstring>
+#include <stdexcept>
+#include <thread>
 #include <limits>
 #include <string>
 #include <vector>
@@ -96,7 +97,7 @@ TEST_CASE("the joints' rows set up in parallel give the same steps as on one thr
 }
 
 TEST_CASE("the host's loops give the same steps in parallel as on one thread, bitwise", "[host][parallel]") {
-    INFO("OpenMP threads: " << omp_get_max_threads());
+    INFO("host threads: " << btocl::hostThreads());
     const std::vector<unsigned char> serial = pileAfter90Steps(std::numeric_limits<size_t>::max());
     const std::vector<unsigned char> parallel = pileAfter90Steps(1);
     REQUIRE(serial.size() == parallel.size());
@@ -125,4 +126,40 @@ TEST_CASE("a bad body found by a parallel loop is reported as the serial loop re
     INFO("serial: " << serial);
     REQUIRE_FALSE(serial.empty());
     CHECK(parallel == serial);
+}
+
+TEST_CASE("parallelFor runs every item once, nested and from two threads at a time", "[host][parallel]") {
+    ParallelFrom threshold(1);
+    const size_t n = 100000;
+    auto countEach = [n] {
+        std::vector<int> hits(n, 0);
+        btocl::parallelFor(n, [&](size_t i) { hits[i] += 1; });
+        return std::count(hits.begin(), hits.end(), 1) == long(n);
+    };
+    CHECK(countEach());
+    // A loop inside a loop's item runs on that item's thread.
+    std::vector<int> inner(64 * 64, 0);
+    btocl::parallelFor(64, [&](size_t i) { btocl::parallelFor(64, [&](size_t j) { inner[i * 64 + j] += 1; }); });
+    CHECK(std::count(inner.begin(), inner.end(), 1) == long(inner.size()));
+    // Two threads' loops at once: one gets the pool, the other runs on its own thread.
+    bool a = false, b = false;
+    std::thread other([&] { a = countEach(); });
+    b = countEach();
+    other.join();
+    CHECK(a);
+    CHECK(b);
+}
+
+TEST_CASE("parallelFor rethrows the exception of the lowest index", "[host][parallel][errors]") {
+    ParallelFrom threshold(1);
+    std::vector<size_t> throwing{99000, 70000, 30001, 30000};
+    std::string message;
+    try {
+        btocl::parallelFor(100000, [&](size_t i) {
+            if (std::find(throwing.begin(), throwing.end(), i) != throwing.end()) throw std::runtime_error(std::to_string(i));
+        });
+    } catch (const std::runtime_error& e) {
+        message = e.what();
+    }
+    CHECK(message == "30000");
 }
