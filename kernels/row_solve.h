@@ -77,11 +77,10 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
     float deltaImpulse =
         (push ? BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) : BTOCL_SOLVE_ROW_RHS(*row)) - applied * BTOCL_SOLVE_ROW_CFM(*row);
     const btoclFloat4 n = row->normal;
-    // The four Jacobian products lane by lane, then one sum across x, y, z (the velocities' w
-    // lanes are 0, so the rows' payload lanes drop out).
-    const btoclFloat4 v = n * (A->linear - B->linear) + row->relpos1CrossNormal * A->angular +
-                          row->relpos2CrossNormal * B->angular;
-    deltaImpulse -= (v.x + v.y + v.z) * jacDiagABInv;
+    const float deltaVel1Dotn = btoclDot3(n, A->linear) + btoclDot3(row->relpos1CrossNormal, A->angular);
+    const float deltaVel2Dotn = btoclDot3(-n, B->linear) + btoclDot3(row->relpos2CrossNormal, B->angular);
+    deltaImpulse -= deltaVel1Dotn * jacDiagABInv;
+    deltaImpulse -= deltaVel2Dotn * jacDiagABInv;
     const float sum = applied + deltaImpulse;
     float newApplied = sum;
     if (sum < lower) {
