@@ -45,8 +45,8 @@ void prefetchPoints(const btPersistentManifold* m) {
 
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
 // contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
-template <class T>
-void resizeForOverwrite(std::vector<T>& v, size_t n) {
+template <class T, class Allocator>
+void resizeForOverwrite(std::vector<T, Allocator>& v, size_t n) {
     if (n > v.capacity()) v.reserve(n + n / 4);
     v.resize(n);
 }

@@ -1,6 +1,7 @@
 // A typed device buffer that grows and is reused from step to step.
 #pragma once
 
+#include "HostArray.h"
 #include "OclRuntime.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -26,7 +27,7 @@ public:
     // settles, and every regrowth is fresh memory to fault in (about 3 s a GiB on the
     // test machines' VMs: at 1M contact points it made the second step 4x slower than the third).
     void reserve(const OclRuntime& rt, size_t n) {
-        if (n <= m_capacity && m_buffer()) return;
+        if (n <= m_capacity && m_buffer() && !m_sharedHost) return;
         size_t cap = std::max<size_t>({n + n / 4, m_capacity + m_capacity / 2, 64});
         if (cap * sizeof(T) > rt.maxAllocSize()) cap = std::max(n, rt.maxAllocSize() / sizeof(T));
         if (n * sizeof(T) > rt.maxAllocSize())
@@ -39,7 +40,40 @@ public:
         rt.noteBufferBytes(m_capacity * sizeof(T), cap * sizeof(T));
         m_buffer = grown;
         m_capacity = cap;
+        m_sharedHost = nullptr;
         m_rt = &rt;
+    }
+
+    // Hands the host array's elements to the device for the step's commands, which must end
+    // before the host writes the array again. On a device that works in the host's memory
+    // (PoCL's CPU device: OclRuntime::hostUnifiedMemory) the buffer is the array itself
+    // (CL_MEM_USE_HOST_PTR over its page-aligned storage, made again only when the array moved),
+    // and a map and unmap hand the host's writes over without a copy (block 12K: 43 MB of
+    // contact points a step copied before). Elsewhere the elements are copied, as enqueueWrite.
+    void enqueueUpload(const OclRuntime& rt, const HostArray<T>& host) {
+        if (!rt.hostUnifiedMemory()) {
+            enqueueWrite(rt, host.data(), host.size());
+            return;
+        }
+        const size_t n = host.size();
+        if (n == 0) return;
+        if (m_sharedHost != host.data() || m_capacity != host.capacity()) {
+            cl_int err = CL_SUCCESS;
+            cl::Buffer shared(rt.context(), CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host.capacity() * sizeof(T),
+                              const_cast<T*>(host.data()), &err);
+            checkCl(err, "making a device buffer over host memory");
+            rt.noteBufferBytes(m_capacity * sizeof(T), host.capacity() * sizeof(T));
+            m_buffer = shared;
+            m_capacity = host.capacity();
+            m_sharedHost = host.data();
+            m_rt = &rt;
+        }
+        cl_int err = CL_SUCCESS;
+        void* mapped = rt.queue().enqueueMapBuffer(m_buffer, CL_FALSE, CL_MAP_WRITE_INVALIDATE_REGION, 0, n * sizeof(T),
+                                                   nullptr, nullptr, &err);
+        checkCl(err, "mapping a device buffer over host memory");
+        checkCl(rt.queue().enqueueUnmapMemObject(m_buffer, mapped, nullptr, rt.phaseEvent()),
+                "unmapping a device buffer over host memory");
     }
 
     // Copies from host memory and waits for the copy.
@@ -97,6 +131,7 @@ public:
 private:
     cl::Buffer m_buffer;
     size_t m_capacity = 0;
+    const T* m_sharedHost = nullptr;  // the host array the buffer is made over (enqueueUpload), or null
     const OclRuntime* m_rt = nullptr;  // the runtime its bytes are counted on
 };
 

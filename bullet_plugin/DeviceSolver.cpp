@@ -29,14 +29,14 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
 // step is written back, and m_controlStart is a member.
 void DeviceSolver::upload(const StepProblem& p) {
-    m_bodies.enqueueWrite(m_rt, p.bodies);
-    m_deltas.enqueueWrite(m_rt, p.deltas);
+    m_bodies.enqueueUpload(m_rt, p.bodies);
+    m_deltas.fill(m_rt, btoclBodyDelta{}, p.deltas.size());  // every body starts the step with no change
     m_constraints.enqueueWrite(m_rt, p.constraints);
     m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
     for (const btoclRow& r : p.rows)  // the setup kernel flags the rows it sets up
             if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
     m_control.enqueueWrite(m_rt, m_controlStart);
-    if (p.rowsOnDevice) m_points.enqueueWrite(m_rt, p.points);
+    if (p.rowsOnDevice) m_points.enqueueUpload(m_rt, p.points);
     m_hostRows.enqueueWrite(m_rt, p.rows);
 }
 

@@ -22,7 +22,7 @@ namespace {
 // A joint's side as SI's convertJoint reads it. A body of the solver is its record. The fixed
 // body stands for every static object, but SI reads the static body itself (its own velocity
 // and inertia, usually zero) and no external impulses: so does this record.
-btoclBody jointSide(const btRigidBody& rb, int index, const std::vector<btoclBody>& solverBodies) {
+btoclBody jointSide(const btRigidBody& rb, int index, const HostArray<btoclBody>& solverBodies) {
     if (index != 0) return solverBodies[size_t(index)];
     btoclBody b = solverBodies[0];
     const btScalar invMass = rb.getInvMass();
@@ -149,7 +149,7 @@ btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool 
 // Row counts first (one thread), then every joint's rows (in parallel), then the constraints
 // and their split points (one thread).
 JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
-                           const std::vector<btoclBody>& solverBodies, const btContactSolverInfo& info) {
+                           const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info) {
     JointRowSet set;
     set.maxIterations = info.m_numIterations;
     set.joints.resize(size_t(std::max(0, numConstraints)));

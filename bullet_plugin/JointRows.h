@@ -6,6 +6,7 @@
 // getInfo1/getInfo2 keep inside each joint (limit and motor state), as SI's set-up does.
 #pragma once
 
+#include "HostArray.h"
 #include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
@@ -53,6 +54,6 @@ struct JointRowSet {
 // body records (StepProblem::bodies), read for the external impulses of this step and the
 // dynamic bodies' state. Throws btOpenCLSolverError when a joint's row is not finite.
 JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
-                           const std::vector<btoclBody>& solverBodies, const btContactSolverInfo& info);
+                           const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info);
 
 }  // namespace btocl

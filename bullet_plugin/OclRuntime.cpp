@@ -166,6 +166,7 @@ OclRuntime::OclRuntime(const std::string& deviceSpec) {
     }
     m_maxWorkGroupSize = m_device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
     m_computeUnits = std::max<cl_uint>(1, m_device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+    m_hostUnifiedMemory = m_device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
     m_localMemSize = m_device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
     m_maxAllocSize = m_device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
 }

@@ -51,6 +51,8 @@ public:
     size_t maxAllocSize() const { return m_maxAllocSize; }
     // CL_DEVICE_MAX_COMPUTE_UNITS, at least 1.
     size_t computeUnits() const { return m_computeUnits; }
+    // The device works in the host's memory (CL_DEVICE_HOST_UNIFIED_MEMORY: PoCL's CPU device).
+    bool hostUnifiedMemory() const { return m_hostUnifiedMemory; }
 
     // Builds kernels/<file> (includes inlined). Throws with the compiler's log on failure.
     cl::Program buildProgramFile(const std::string& file, const std::string& options = "") const;
@@ -102,6 +104,7 @@ private:
     cl::CommandQueue m_queue;
     std::string m_deviceName;
     bool m_isCpu = false;
+    bool m_hostUnifiedMemory = false;
     bool m_profiling = false;
     size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0, m_computeUnits = 1;
     mutable size_t m_bufferBytes = 0;

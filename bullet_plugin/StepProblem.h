@@ -3,6 +3,7 @@
 // StepGatherer (BulletGather.h), solved by DeviceSolver, written back by writeBackStep.
 #pragma once
 
+#include "HostArray.h"
 #include "JointRows.h"
 #include "SplitPlan.h"
 #include "btocl_shared.h"
@@ -21,7 +22,7 @@ namespace btocl {
 struct StepProblem {
     // Per solver body. Index 0 is the fixed body that every static object maps to (as SI's).
     std::vector<btRigidBody*> original;      // null for the fixed body
-    std::vector<btoclBody> bodies;
+    HostArray<btoclBody> bodies;  // HostArray: read in place by a device on the host's memory
     std::vector<btoclBodyDelta> deltas;      // zero here; the solve fills them
     std::vector<btTransform> worldTransforms;
     std::vector<SplitBody> splitBodies;
@@ -39,7 +40,7 @@ struct StepProblem {
 
     // One record per contact point; normal row i is point i. kernels/setup.cl sets the rows up
     // from them on the device ...
-    std::vector<btoclContactPoint> points;
+    HostArray<btoclContactPoint> points;
     std::vector<btManifoldPoint*> manifoldPoints;  // the btManifoldPoint of each point
     btoclSetupParams setupParams{};
     // Some point may give its normal row a split-impulse share (split impulse on and a penetration
