@@ -68,12 +68,15 @@ public:
             m_sharedHost = host.data();
             m_rt = &rt;
         }
-        cl_int err = CL_SUCCESS;
+        cl_int mapErr = CL_SUCCESS;
         void* mapped = rt.queue().enqueueMapBuffer(m_buffer, CL_FALSE, CL_MAP_WRITE_INVALIDATE_REGION, 0, n * sizeof(T),
-                                                   nullptr, nullptr, &err);
-        checkCl(err, "mapping a device buffer over host memory");
-        checkCl(rt.queue().enqueueUnmapMemObject(m_buffer, mapped, nullptr, rt.phaseEvent()),
-                "unmapping a device buffer over host memory");
+                                                   nullptr, nullptr, &mapErr);
+        // A mapping is unmapped whatever is checked after it: a buffer released while mapped
+        // stays with the driver.
+        const cl_int unmapErr = mapped ? rt.queue().enqueueUnmapMemObject(m_buffer, mapped, nullptr, rt.phaseEvent())
+                                       : CL_SUCCESS;
+        checkCl(mapErr, "mapping a device buffer over host memory");
+        checkCl(unmapErr, "unmapping a device buffer over host memory");
     }
 
     // Copies from host memory and waits for the copy.
