@@ -10,9 +10,19 @@
 namespace btocl {
 namespace {
 
-// Workers that sleep on a condition variable between loops. A loop is published as a new
-// generation; each thread takes chunks from a shared counter, and the caller, once out of
-// chunks, waits for the last one to finish.
+// One loop: its chunks, taken from a shared counter by every thread that joins it. It lives on
+// the calling thread's stack until every chunk has run and every worker that joined has left.
+struct Job {
+    void (*chunk)(void*, int);
+    void* context;
+    int numChunks;
+    std::atomic<int> next{0};
+    int unfinished;  // chunks not yet run (guarded by the pool's mutex)
+    int joined = 0;  // workers running its chunks (guarded by the pool's mutex)
+};
+
+// Workers that sleep on a condition variable between loops. The caller publishes its job,
+// wakes them, runs chunks itself, and waits until the job is done and left.
 class HostPool {
 public:
     HostPool() {
@@ -37,62 +47,62 @@ public:
             for (int c = 0; c < numChunks; ++c) chunk(context, c);
             return;
         }
+        Job job{chunk, context, numChunks, {0}, numChunks};
         {
             std::lock_guard<std::mutex> lock(m_mutex);
-            m_chunk = chunk;
-            m_context = context;
-            m_numChunks = numChunks;
-            m_nextChunk.store(0);
-            m_unfinished = numChunks;
+            m_job = &job;
             ++m_generation;
         }
         m_wake.notify_all();
-        runChunksHere();
+        const int ran = runChunks(job);
         std::unique_lock<std::mutex> lock(m_mutex);
-        m_done.wait(lock, [this] { return m_unfinished == 0; });
+        job.unfinished -= ran;
+        m_done.wait(lock, [&] { return job.unfinished == 0 && job.joined == 0; });
+        m_job = nullptr;  // a worker that wakes only now finds nothing to join
     }
 
 private:
     void work() {
         unsigned long seen = 0;
         for (;;) {
+            Job* job = nullptr;
             {
                 std::unique_lock<std::mutex> lock(m_mutex);
                 m_wake.wait(lock, [&] { return m_stopping || m_generation != seen; });
                 if (m_stopping) return;
                 seen = m_generation;
+                job = m_job;
+                if (!job) continue;
+                ++job->joined;
             }
-            runChunksHere();
+            const int ran = runChunks(*job);
+            std::lock_guard<std::mutex> lock(m_mutex);
+            job->unfinished -= ran;
+            --job->joined;
+            if (job->unfinished == 0 && job->joined == 0) m_done.notify_all();
         }
     }
 
-    void runChunksHere() {
+    static int runChunks(Job& job) {
         t_insideChunk = true;
-        int finished = 0;
-        for (int c = m_nextChunk.fetch_add(1); c < m_numChunks; c = m_nextChunk.fetch_add(1)) {
-            m_chunk(m_context, c);
-            ++finished;
+        int ran = 0;
+        for (int c = job.next.fetch_add(1); c < job.numChunks; c = job.next.fetch_add(1)) {
+            job.chunk(job.context, c);
+            ++ran;
         }
         t_insideChunk = false;
-        if (finished == 0) return;
-        std::lock_guard<std::mutex> lock(m_mutex);
-        m_unfinished -= finished;
-        if (m_unfinished == 0) m_done.notify_one();
+        return ran;
     }
 
     static thread_local bool t_insideChunk;
     int m_threads = 1;
     std::vector<std::thread> m_workers;
     std::mutex m_busy;   // held by the thread whose loop the pool runs
-    std::mutex m_mutex;  // guards the loop's fields and the counts below
+    std::mutex m_mutex;  // guards m_job, m_generation, m_stopping and the jobs' counts
     std::condition_variable m_wake, m_done;
+    Job* m_job = nullptr;
     unsigned long m_generation = 0;
     bool m_stopping = false;
-    void (*m_chunk)(void*, int) = nullptr;
-    void* m_context = nullptr;
-    int m_numChunks = 0;
-    std::atomic<int> m_nextChunk{0};
-    int m_unfinished = 0;
 };
 
 thread_local bool HostPool::t_insideChunk = false;

@@ -163,3 +163,16 @@ TEST_CASE("parallelFor rethrows the exception of the lowest index", "[host][para
     }
     CHECK(message == "30000");
 }
+
+TEST_CASE("parallelFor's loops back to back each run their own items", "[host][parallel]") {
+    // Short loops one after another: a worker that wakes late must join the loop that is running
+    // then, or none, never run one loop's items with another's function.
+    ParallelFrom threshold(1);
+    bool allRight = true;
+    for (int loop = 0; loop < 3000; ++loop) {
+        std::vector<int> hits(size_t(1 + loop % 37), 0);
+        btocl::parallelFor(hits.size(), [&](size_t i) { hits[i] += loop + 1; });
+        for (int h : hits) allRight = allRight && h == loop + 1;
+    }
+    CHECK(allRight);
+}
