@@ -36,8 +36,8 @@ void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context
 // `weight` (an item that costs as much as several of a manifold loop's). The items are split in
 // contiguous ranges, eight per thread, which the threads take as they come, so that a worker
 // that wakes late still takes a share (on this VM about one loop in six of block 12K's ran all
-// its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range: the loop rethrows the one of the
-// lowest index, as the serial loop would have thrown first.
+// its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range:
+// the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
     const size_t threads = size_t(hostThreads());

@@ -13,24 +13,16 @@ namespace {
 // Each check walks a record's fields twice at most: once summing x * 0 over all of them (0 when
 // every field is finite, NaN as soon as one is not; one comparison for the common case), and
 // only when that fails, once more to name the first bad field.
-// Four running sums, not one: each add waits only on its own sum's last (with one sum, a point's
-// check is a chain of some twenty dependent adds).
 struct FiniteSum {
-    btScalar sum[4] = {0, 0, 0, 0};
-    int next = 0;  // the sum that the next scalar goes to
-    void operator()(const char*, btScalar x) {
-        sum[next] += x * btScalar(0);
-        next = (next + 1) & 3;
-    }
+    btScalar sum = 0;
+    void operator()(const char*, btScalar x) { sum += x * btScalar(0); }
     void operator()(const char*, const btVector3& v) {
-        sum[0] += v.x() * btScalar(0);
-        sum[1] += v.y() * btScalar(0);
-        sum[2] += v.z() * btScalar(0);
+        sum += v.x() * btScalar(0) + v.y() * btScalar(0) + v.z() * btScalar(0);
     }
     void operator()(const char* name, const btMatrix3x3& m) {
         for (int r = 0; r < 3; ++r) (*this)(name, m[r]);
     }
-    bool allFinite() const { return sum[0] + sum[1] + sum[2] + sum[3] == 0; }
+    bool allFinite() const { return sum == 0; }
 };
 
 struct FirstNonFinite {
