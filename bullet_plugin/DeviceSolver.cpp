@@ -113,14 +113,13 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
 
 // One single-lane work-group per compute unit: the device runs them side by side (more would
 // wait for a free unit and buy nothing; fewer would leave units idle). Serial path only: a
-// group's batches are walked by one lane. The progress block is written with the step's other
-// copies, in order before the launch.
+// group's batches are walked by one lane. The progress block is cleared on the device, in order
+// before the launch.
 void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
     const int penetrationIterations = s.splitImpulse && p.maySplitPenetration ? s.numIterations : 0;
     const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, penetrationIterations, s.numIterations, s.maxIterations);
     const int workGroups = int(m_rt.computeUnits());
-    m_progressStart.assign(size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)), 0);
-    m_progress.enqueueWrite(m_rt, m_progressStart);
+    m_progress.fill(m_rt, 0, size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)));
     setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),
             m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,

@@ -79,7 +79,7 @@ private:
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     DeviceBuffer<int> m_progress;  // solveStepClaimed's finished counts, residuals and claim counters
-    std::vector<int> m_controlStart, m_progressStart;           // the control and progress blocks as uploaded
+    std::vector<int> m_controlStart;                            // the control block as uploaded
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};         // ... and as read back
 };
 

@@ -167,7 +167,7 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
         p.iteration = index / 2;
         p.pass = (index & 1) ? BTOCL_PASS_FRICTION : BTOCL_PASS_NORMAL;
     } else {
-        p.iteration = withFriction + index - 2 * withFriction;
+        p.iteration = index - withFriction;  // past the 2 * withFriction passes of both halves
         p.pass = BTOCL_PASS_NORMAL;
     }
     p.residual = penetrationIterations + p.iteration;
@@ -258,24 +258,24 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                 for (int claimed = r.x + atomic_add(counter, groupsPerClaim); claimed < r.y;
                      claimed = r.x + atomic_add(counter, groupsPerClaim))
                     for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
-                    if (solve) {
-                        // The pass as a constant in each call, so that the compiler folds its branches away.
-                        const btoclGroup g = groups[group];
+                        if (solve) {
+                            // The pass as a constant in each call, so that the compiler folds its branches away.
+                            const btoclGroup g = groups[group];
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                           \
     solveGroupOneLane(g, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, PASS, flags, \
                       p.iteration, numIterations)
-                        const float groupResidual2 =
-                                            p.pass == BTOCL_PASS_NORMAL        ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_NORMAL)
-                                            : p.pass == BTOCL_PASS_FRICTION    ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_FRICTION)
-                                            : p.pass == BTOCL_PASS_PENETRATION ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_PENETRATION)
-                                                                               : BTOCL_SOLVE_CLAIMED(BTOCL_PASS_WARMSTART);
+                            const float groupResidual2 =
+                                p.pass == BTOCL_PASS_NORMAL        ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_NORMAL)
+                                : p.pass == BTOCL_PASS_FRICTION    ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_FRICTION)
+                                : p.pass == BTOCL_PASS_PENETRATION ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_PENETRATION)
+                                                                   : BTOCL_SOLVE_CLAIMED(BTOCL_PASS_WARMSTART);
 #undef BTOCL_SOLVE_CLAIMED
-                        // Before the group counts as finished: whoever sees it finished sees this.
-                        if (track && p.residual >= 0 && groupResidual2 > 0.0f)
-                            atomic_max(residuals + p.residual, as_int(groupResidual2));
+                            // Before the group counts as finished: whoever sees it finished sees this.
+                            if (track && p.residual >= 0 && groupResidual2 > 0.0f)
+                                atomic_max(residuals + p.residual, as_int(groupResidual2));
+                        }
+                        ++finishedHere;
                     }
-                    ++finishedHere;
-                }
             }
             // Every group of the set is taken, and those taken here are finished: published once
             // a set (a count written for each group would bounce its cache line between the
