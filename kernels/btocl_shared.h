@@ -5,7 +5,11 @@
 #define BTOCL_SHARED_H
 
 // Functions of the headers that both compile (split_grid.h, row_setup.h, ...).
+#ifdef __OPENCL_VERSION__
+#define BTOCL_INLINE static inline __attribute__((always_inline))
+#else
 #define BTOCL_INLINE static inline
+#endif
 
 #ifdef __OPENCL_VERSION__
 typedef float4 btoclFloat4;
