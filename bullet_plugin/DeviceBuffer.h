@@ -47,36 +47,39 @@ public:
     // Hands the host array's elements to the device for the step's commands, which must end
     // before the host writes the array again. On a device that works in the host's memory
     // (PoCL's CPU device: OclRuntime::hostUnifiedMemory) the buffer is the array itself
-    // (CL_MEM_USE_HOST_PTR over its page-aligned storage, made again only when the array moved),
-    // and a map and unmap hand the host's writes over without a copy (block 12K: 43 MB of
-    // contact points a step copied before). Elsewhere the elements are copied, as enqueueWrite.
+    // (shareHost), and a map and unmap hand the host's writes over without a copy (block 12K:
+    // 43 MB of contact points a step copied before). Elsewhere the elements are copied, as
+    // enqueueWrite.
     void enqueueUpload(const OclRuntime& rt, const HostArray<T>& host) {
         if (!rt.hostUnifiedMemory()) {
             enqueueWrite(rt, host.data(), host.size());
             return;
         }
-        const size_t n = host.size();
-        if (n == 0) return;
-        if (m_sharedHost != host.data() || m_capacity != host.capacity()) {
-            cl_int err = CL_SUCCESS;
-            cl::Buffer shared(rt.context(), CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host.capacity() * sizeof(T),
-                              const_cast<T*>(host.data()), &err);
-            checkCl(err, "making a device buffer over host memory");
-            rt.noteBufferBytes(m_capacity * sizeof(T), host.capacity() * sizeof(T));
-            m_buffer = shared;
-            m_capacity = host.capacity();
-            m_sharedHost = host.data();
-            m_rt = &rt;
+        if (host.empty()) return;
+        shareHost(rt, host);
+        enqueueMapAndUnmap(rt, CL_MAP_WRITE_INVALIDATE_REGION, host.size());
+    }
+
+    // The buffer a kernel writes the step's results to, for enqueueDownload(host) to hand back:
+    // the host array itself on a device that works in the host's memory, else room for its
+    // elements. The array keeps its size until the download.
+    void prepareDownload(const OclRuntime& rt, HostArray<T>& host) {
+        if (rt.hostUnifiedMemory() && !host.empty())
+            shareHost(rt, host);
+        else
+            reserve(rt, host.size());
+    }
+
+    // Enqueues the hand-back of what the kernels wrote to the host array (prepareDownload):
+    // a map and unmap where it is the buffer (PoCL: no copy; block 12K had 12 MB of friction
+    // directions and impulses copied back each step), else a copy. Valid once the queue is finished.
+    void enqueueDownload(const OclRuntime& rt, HostArray<T>& host) {
+        if (host.empty()) return;
+        if (m_sharedHost == host.data() && m_capacity == host.capacity()) {
+            enqueueMapAndUnmap(rt, CL_MAP_READ, host.size());
+            return;
         }
-        cl_int mapErr = CL_SUCCESS;
-        void* mapped = rt.queue().enqueueMapBuffer(m_buffer, CL_FALSE, CL_MAP_WRITE_INVALIDATE_REGION, 0, n * sizeof(T),
-                                                   nullptr, nullptr, &mapErr);
-        // A mapping is unmapped whatever is checked after it: a buffer released while mapped
-        // stays with the driver.
-        const cl_int unmapErr = mapped ? rt.queue().enqueueUnmapMemObject(m_buffer, mapped, nullptr, rt.phaseEvent())
-                                       : CL_SUCCESS;
-        checkCl(mapErr, "mapping a device buffer over host memory");
-        checkCl(unmapErr, "unmapping a device buffer over host memory");
+        enqueueRead(rt, host.data(), host.size());
     }
 
     // Copies from host memory and waits for the copy.
@@ -132,6 +135,33 @@ public:
     size_t capacity() const { return m_capacity; }
 
 private:
+    // This buffer made over the host array's storage (CL_MEM_USE_HOST_PTR over its page-aligned
+    // memory), again only when the array moved.
+    void shareHost(const OclRuntime& rt, const HostArray<T>& host) {
+        if (m_sharedHost == host.data() && m_capacity == host.capacity()) return;
+        cl_int err = CL_SUCCESS;
+        cl::Buffer shared(rt.context(), CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, host.capacity() * sizeof(T),
+                          const_cast<T*>(host.data()), &err);
+        checkCl(err, "making a device buffer over host memory");
+        rt.noteBufferBytes(m_capacity * sizeof(T), host.capacity() * sizeof(T));
+        m_buffer = shared;
+        m_capacity = host.capacity();
+        m_sharedHost = host.data();
+        m_rt = &rt;
+    }
+
+    // Synchronises the first n elements between the device and the host array it is made over.
+    void enqueueMapAndUnmap(const OclRuntime& rt, cl_map_flags flags, size_t n) {
+        cl_int mapErr = CL_SUCCESS;
+        void* mapped = rt.queue().enqueueMapBuffer(m_buffer, CL_FALSE, flags, 0, n * sizeof(T), nullptr, nullptr, &mapErr);
+        // A mapping is unmapped whatever is checked after it: a buffer released while mapped
+        // stays with the driver.
+        const cl_int unmapErr = mapped ? rt.queue().enqueueUnmapMemObject(m_buffer, mapped, nullptr, rt.phaseEvent())
+                                       : CL_SUCCESS;
+        checkCl(mapErr, "mapping a device buffer over host memory");
+        checkCl(unmapErr, "unmapping a device buffer over host memory");
+    }
+
     cl::Buffer m_buffer;
     size_t m_capacity = 0;
     const T* m_sharedHost = nullptr;  // the host array the buffer is made over (enqueueUpload), or null

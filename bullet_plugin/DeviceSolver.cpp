@@ -30,7 +30,12 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
 // step is written back, and m_controlStart is a member.
 void DeviceSolver::upload(const StepProblem& p) {
     m_bodies.enqueueUpload(m_rt, p.bodies);
-    m_deltas.fill(m_rt, btoclBodyDelta{}, p.deltas.size());  // every body starts the step with no change
+    // Every body starts the step with no change: the gather's zeros, handed over in place where
+    // the device works in the host's memory, else cleared on the device (no copy).
+    if (m_rt.hostUnifiedMemory())
+        m_deltas.enqueueUpload(m_rt, p.deltas);
+    else
+        m_deltas.fill(m_rt, btoclBodyDelta{}, p.deltas.size());
     m_constraints.enqueueWrite(m_rt, p.constraints);
     m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
     for (const btoclRow& r : p.rows)  // the setup kernel flags the rows it sets up
@@ -54,7 +59,7 @@ DeviceLayoutView DeviceSolver::uploadLayout(const BatchLayout& layout) {
     return view;
 }
 
-void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout) {
+void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
     const int n = int(p.constraints.size());
     const int numRows = p.numRows();
     m_placed.reserve(m_rt, size_t(n));
@@ -84,7 +89,8 @@ void DeviceSolver::arrange(const StepProblem& p, const DeviceLayoutView& layout)
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
-    m_lateralDirs.reserve(m_rt, 2 * p.points.size());
+    p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
+    m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
     setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(),
             m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(),
             m_control.buffer(), p.setupParams);
@@ -160,18 +166,18 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
 
 int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     // Every copy enqueued, then one wait.
-    m_deltas.enqueueRead(m_rt, p.deltas.data(), p.deltas.size());
+    m_deltas.enqueueDownload(m_rt, p.deltas);
     const int n = p.numRows();
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
-        m_impulses.reserve(m_rt, size_t(n));
+        m_impulses.prepareDownload(m_rt, p.appliedImpulses);
         setArgs(m_gatherImpulses, m_applied.buffer(), m_rowMap.buffer(), m_impulses.buffer(), n);
         m_rt.launch(m_gatherImpulses, size_t(n), kLanes, "launching gatherAppliedImpulses");
-        m_impulses.enqueueRead(m_rt, p.appliedImpulses.data(), size_t(n));
+        m_impulses.enqueueDownload(m_rt, p.appliedImpulses);
     }
     if (p.rowsOnDevice) {
-        p.lateralDirs.resize(2 * p.points.size());
-        m_lateralDirs.enqueueRead(m_rt, p.lateralDirs.data(), p.lateralDirs.size());
+        p.lateralDirs.resize(2 * p.points.size());  // as arrange sized them (none where it set no row up)
+        m_lateralDirs.enqueueDownload(m_rt, p.lateralDirs);
     }
     int iterations = p.constraints.empty() ? 0 : s.maxIterations;
     const bool counted = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0 && !p.constraints.empty();

@@ -43,7 +43,7 @@ public:
     DeviceLayoutView uploadLayout(const BatchLayout& layout);
     // Places constraints and rows in the layout's solve order and sets the rows up there
     // (kernels/arrange.cl, kernels/setup.cl).
-    void arrange(const StepProblem& p, const DeviceLayoutView& layout);
+    void arrange(StepProblem& p, const DeviceLayoutView& layout);
     // Enqueues the warm start and every split-impulse and velocity iteration.
     void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with

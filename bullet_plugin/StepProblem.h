@@ -23,7 +23,7 @@ struct StepProblem {
     // Per solver body. Index 0 is the fixed body that every static object maps to (as SI's).
     std::vector<btRigidBody*> original;      // null for the fixed body
     HostArray<btoclBody> bodies;  // HostArray: read in place by a device on the host's memory
-    std::vector<btoclBodyDelta> deltas;      // zero here; the solve fills them
+    HostArray<btoclBodyDelta> deltas;  // zero here; the solve fills them (in place, as `bodies`)
     std::vector<btTransform> worldTransforms;
     std::vector<SplitBody> splitBodies;
 
@@ -54,9 +54,10 @@ struct StepProblem {
     int hostRowBase = 0;
 
     // After the solve: applied impulses of every row (gather order), and the two friction
-    // directions of each point (the host's or the device's choice).
-    std::vector<float> appliedImpulses;
-    std::vector<btoclFloat4> lateralDirs;
+    // directions of each point (the host's or the device's choice). HostArray: written in place
+    // by a device on the host's memory.
+    HostArray<float> appliedImpulses;
+    HostArray<btoclFloat4> lateralDirs;
 
     int numContactPoints() const { return numNormalRows; }
     int numJointRows() const { return int(joints.rows.size()); }

@@ -88,7 +88,7 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
             if (track && residual <= settings.residualThreshold) break;
         }
     }
-    p.appliedImpulses = applied;
+    p.appliedImpulses.assign(applied.begin(), applied.end());
     return iterations;
 }
 
