@@ -53,6 +53,9 @@ public:
     size_t computeUnits() const { return m_computeUnits; }
     // The device works in the host's memory (CL_DEVICE_HOST_UNIFIED_MEMORY: PoCL's CPU device).
     bool hostUnifiedMemory() const { return m_hostUnifiedMemory; }
+    // From now on transfers copy even on a device that works in the host's memory: the path a
+    // GPU takes, for the tests to run it on PoCL. Before the first transfer.
+    void transferByCopy() { m_hostUnifiedMemory = false; }
 
     // Builds kernels/<file> (includes inlined). Throws with the compiler's log on failure.
     cl::Program buildProgramFile(const std::string& file, const std::string& options = "") const;

@@ -33,9 +33,12 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
 // Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order,
 // with the lanes of the path under test; launch: one launch per set and pass, or the whole step in one (SolveLaunch).
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
+// transferByCopy: copies to and from the device even where it works in the host's memory.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                         std::vector<btoclRow>* rows = nullptr, SolveLaunch launch = SolveLaunch::PerSet) {
+                         std::vector<btoclRow>* rows = nullptr, SolveLaunch launch = SolveLaunch::PerSet,
+                         bool transferByCopy = false) {
     OclRuntime rt("");
+    if (transferByCopy) rt.transferByCopy();
     DevicePrimitives primitives(rt, testBackend());
     DeviceSolver solver(rt, primitives, testLanesPerGroup());
     solver.upload(p);
