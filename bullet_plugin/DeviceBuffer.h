@@ -164,7 +164,7 @@ private:
 
     cl::Buffer m_buffer;
     size_t m_capacity = 0;
-    const T* m_sharedHost = nullptr;  // the host array the buffer is made over (enqueueUpload), or null
+    const T* m_sharedHost = nullptr;  // the host array the buffer is made over (shareHost), or null
     const OclRuntime* m_rt = nullptr;  // the runtime its bytes are counted on
 };
 

@@ -37,7 +37,9 @@ public:
     // `primitives` (the scan) must outlive this object.
     DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup);
 
-    // Copies bodies, deltas, constraints and contact points (or host-built rows) to the device.
+    // Hands bodies, deltas, constraints and contact points (or host-built rows) to the device
+    // (bodies, points and deltas in place where it works in the host's memory). p.deltas must
+    // be all zero, as the gather leaves them: the solve adds to them.
     void upload(const StepProblem& p);
     // Copies a host-built layout to this solver's own buffers.
     DeviceLayoutView uploadLayout(const BatchLayout& layout);
