@@ -229,6 +229,14 @@ void StepGatherer::addJointRows() {
     p.rows.insert(p.rows.end(), p.joints.rows.begin(), p.joints.rows.end());
 }
 
+// Two bodies that cannot move are left out (SI tests the inverse-mass vectors). Reads the
+// bodies' records: both must be filled.
+bool StepGatherer::canMove(const ManifoldSlot& slot) const {
+    const StepProblem& p = m_problem;
+    return !(toVector3(p.bodies[size_t(slot.bodyA)].invMass).fuzzyZero() &&
+             toVector3(p.bodies[size_t(slot.bodyB)].invMass).fuzzyZero());
+}
+
 // Looks up a manifold's bodies and counts its points in reach, reading only what the count
 // needs (the points' distances and rolling friction, one cache line of each point's four): the
 // points are checked as they are packed.
@@ -238,6 +246,7 @@ void StepGatherer::countPoints(size_t m) {
     slot.bodyA = knownBodyOf(manifold.getBody0());
     slot.bodyB = knownBodyOf(manifold.getBody1());
     slot.anisotropic = hasAnisotropicFriction(manifold.getBody0()) || hasAnisotropicFriction(manifold.getBody1());
+    if (slot.bodyA >= 0 && slot.bodyB >= 0) slot.solved = canMove(slot);
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {
         const btManifoldPoint& cp = manifold.getContactPoint(j);
@@ -255,7 +264,7 @@ void StepGatherer::packManifold(size_t m) {
     ManifoldSlot& slot = m_slots[m];
     if (slot.constraint < 0) return;
     btPersistentManifold* manifold = m_manifolds[m];
-    checkManifold(*manifold, m_info);  // before any of its points is packed
+    checkManifold(*manifold, m_info, slot.anisotropic);  // before any of its points is packed
     StepProblem& p = m_problem;
     const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
     const int frictionBase = p.numNormalRows, rollingBase = p.numNormalRows + p.numFrictionRows;
@@ -312,11 +321,13 @@ void StepGatherer::packManifold(size_t m) {
     p.manifoldOfConstraint[size_t(slot.constraint)] = manifold;
 }
 
-// Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up
-// and its points counted, in parallel; then, on this thread, the bodies first met here named (in
-// SI's order: manifold order) and places given by a running count; then each manifold checked and
-// packed at its places, in parallel. (Three passes before, the bodies' lookup one of its own and
-// the points checked in the count: block 12K's gather 20-26 ms -> 16-17 ms, btocl_bench.)
+// Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
+// whether one can move, and its points counted, in parallel; then, on this thread, the bodies
+// first met here named (in SI's order: manifold order) and places given by a running count over
+// the slots alone; then each manifold checked and packed at its places, in parallel. (Three passes
+// before, the bodies' lookup one of its own and the points checked in the count: block 12K's
+// gather 20-26 ms -> 16-17 ms; whether a body can move read in the count, not the running count,
+// and a manifold's objects read again only for anisotropic friction: 17.6 -> 16.1 ms, btocl_bench.)
 void StepGatherer::packManifolds() {
     StepProblem& p = m_problem;
     const size_t numManifolds = m_manifolds.size();
@@ -333,20 +344,22 @@ void StepGatherer::packManifolds() {
     });
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
     // would give.
+    bool named = false;
     for (size_t m = 0; m < numManifolds; ++m) {
         ManifoldSlot& slot = m_slots[m];
+        if (slot.bodyA >= 0 && slot.bodyB >= 0) continue;
         if (slot.bodyA < 0) slot.bodyA = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody0()));
         if (slot.bodyB < 0) slot.bodyB = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody1()));
+        named = true;
     }
     fillNewBodies();
+    if (named)  // the slots that named a body can tell now
+        parallelFor(numManifolds, [&](size_t m) { m_slots[m].solved = canMove(m_slots[m]); });
 
     const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
     int numPoints = 0, numRolling = 0, numConstraints = 0;
     for (ManifoldSlot& slot : m_slots) {
-        // Two bodies that cannot move are left out (SI tests the inverse-mass vectors).
-        const bool solved = !(toVector3(p.bodies[slot.bodyA].invMass).fuzzyZero() &&
-                              toVector3(p.bodies[slot.bodyB].invMass).fuzzyZero());
-        if (!solved || slot.numPoints == 0) continue;
+        if (!slot.solved || slot.numPoints == 0) continue;
         if (slot.anisotropic) p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
         slot.constraint = numConstraints++;
         slot.firstPoint = numPoints;

@@ -50,6 +50,7 @@ private:
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstFriction = 0, firstRolling = 0;
         bool maySplit = false;
+        bool solved = false;  // a body can move (known once both bodies have records)
     };
     int namedBodyOf(btCollisionObject* object);
     int knownBodyOf(const btCollisionObject* object) const;
@@ -57,6 +58,7 @@ private:
     void fillNewBodies();
     void fillSolverBody(int index);
     void packManifolds();
+    bool canMove(const ManifoldSlot& slot) const;
     void countPoints(size_t manifold);
     void packManifold(size_t manifold);
     void addJointRows();

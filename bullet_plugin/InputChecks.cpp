@@ -165,7 +165,7 @@ void checkRigidBody(const btRigidBody& body) {
              field);
 }
 
-void checkManifold(const btPersistentManifold& manifold, const btContactSolverInfo& info) {
+void checkManifold(const btPersistentManifold& manifold, const btContactSolverInfo& info, bool anisotropic) {
     const PointFields fields{info.m_solverMode};
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {
@@ -176,6 +176,7 @@ void checkManifold(const btPersistentManifold& manifold, const btContactSolverIn
                  worldIndexOf(manifold.getBody0()) + " and " + worldIndexOf(manifold.getBody1()) +
                  " of the world has a non-finite " + field);
     }
+    if (!anisotropic) return;  // its objects not read again (they lie scattered in memory)
     checkAnisotropy(manifold.getBody0());
     checkAnisotropy(manifold.getBody1());
 }

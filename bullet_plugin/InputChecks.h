@@ -40,7 +40,8 @@ void checkRigidBody(const btRigidBody& body);
 // positions, normal, distance, combined friction, restitution, rolling and spinning friction;
 // the warm-start impulse with warm starting; contact CFM, ERP, stiffness and damping where the
 // point's flags say they are used; cached friction directions, motions and CFM where they are
-// used. For an object with anisotropic friction, its factors and rotation.
-void checkManifold(const btPersistentManifold& manifold, const btContactSolverInfo& info);
+// used. With `anisotropic` (a body has anisotropic friction, as the gather found), that object's
+// factors and rotation.
+void checkManifold(const btPersistentManifold& manifold, const btContactSolverInfo& info, bool anisotropic);
 
 }  // namespace btocl

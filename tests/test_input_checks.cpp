@@ -148,6 +148,33 @@ TEST_CASE("a non-finite field of a contact point is refused, naming the two obje
     CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
+// Anisotropic friction is read of both objects of a manifold, a static one too (it is not a
+// solver body): a non-finite factor there is refused, naming the object; without the flag the
+// factors are not read.
+TEST_CASE("a non-finite anisotropic friction is refused and names its object (static or dynamic)", "[errors][input]") {
+    OurPile our;
+    SettledPile& p = our.pile;
+    btPersistentManifold* m = p.manifoldOfTop();
+    REQUIRE(m != nullptr);
+    btCollisionObject* ground = nullptr;  // what a box of the lower layer rests on
+    for (int i = 0; i < p.w.dispatcher().getNumManifolds() && !ground; ++i) {
+        btPersistentManifold* g = p.w.dispatcher().getManifoldByIndexInternal(i);
+        for (const btCollisionObject* o : {g->getBody0(), g->getBody1()})
+            if (o->isStaticObject() && g->getNumContacts() > 0) ground = const_cast<btCollisionObject*>(o);
+    }
+    REQUIRE(ground != nullptr);
+    for (btCollisionObject* o : {static_cast<btCollisionObject*>(p.top), ground}) {
+        INFO("static: " << o->isStaticObject());
+        o->setAnisotropicFriction(btVector3(1, kNaN, 1), btCollisionObject::CF_ANISOTROPIC_FRICTION);
+        requireRefused(p, p.w.stepInfo(), {"non-finite", bodyAt(o), "anisotropic friction"});
+        o->setAnisotropicFriction(btVector3(1, kNaN, 1), 0);  // the same factors, the flag off: not read
+        REQUIRE_NOTHROW(p.solve(p.w.stepInfo()));
+        o->setAnisotropicFriction(btVector3(1, 1, 1), 0);
+    }
+    p.solve(p.w.stepInfo());
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
+}
+
 TEST_CASE("a contact point field the step does not read may be anything", "[input]") {
     // Bullet leaves such fields as they are; refusing them would refuse valid worlds.
     OurPile our;
