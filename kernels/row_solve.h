@@ -65,6 +65,15 @@ BTOCL_INLINE void btoclApplyImpulse(btoclSolveBody* s, btoclFloat4 linear, btocl
     s->angular = s->angular + angular * impulse;
 }
 
+// A row's impulse applied to both bodies: per unit, A along the row's normal, B against it, each
+// turned by its angular component (w lanes cleared: they carry the row's other values).
+BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, btoclSolveBody* A, btoclSolveBody* B,
+                                       float impulse, int applyFactors) {
+    const btoclFloat4 n = btoclXyz(row->normal);
+    btoclApplyImpulse(A, n * A->invMass, btoclXyz(row->angularComponentA), impulse, applyFactors);
+    btoclApplyImpulse(B, -n * B->invMass, btoclXyz(row->angularComponentB), impulse, applyFactors);
+}
+
 // One row, its impulse clamped to [lower, upper]; returns the residual as SI reports it (the
 // impulse change over the row's effective mass). The row is read only; its applied impulse lives
 // in a compact array, so a pass writes 4 bytes per row, not a cache line. B's linear Jacobian is
@@ -83,8 +92,6 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
     const float start =
         (push ? BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) : BTOCL_SOLVE_ROW_RHS(*row)) - applied * BTOCL_SOLVE_ROW_CFM(*row);
     const btoclFloat4 n = btoclXyz(row->normal);
-    const btoclFloat4 linearA = n * A->invMass, linearB = -n * B->invMass;
-    const btoclFloat4 angularA = btoclXyz(row->angularComponentA), angularB = btoclXyz(row->angularComponentB);
     const btoclFloat4 v = (n * A->linear - n * B->linear) +
                           (row->relpos1CrossNormal * A->angular + row->relpos2CrossNormal * B->angular);
     float deltaImpulse = start - (v.x + v.y + v.z) * jacDiagABInv;
@@ -98,8 +105,7 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
         newApplied = upper;
     }
     *appliedImpulse = newApplied;
-    btoclApplyImpulse(A, linearA, angularA, deltaImpulse, applyFactors);
-    btoclApplyImpulse(B, linearB, angularB, deltaImpulse, applyFactors);
+    btoclApplyRowImpulse(row, A, B, deltaImpulse, applyFactors);
     return deltaImpulse * (1.0f / jacDiagABInv);
 }
 
@@ -184,9 +190,7 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
             if (pass == BTOCL_PASS_WARMSTART) {
                 // SI applies each normal row's starting impulse to both bodies as it sets the row up.
                 const float start = applied[r];
-                const btoclFloat4 n = btoclXyz(row->normal);
-                btoclApplyImpulse(&A, n * A.invMass, btoclXyz(row->angularComponentA), start, 1);
-                btoclApplyImpulse(&B, -n * B.invMass, btoclXyz(row->angularComponentB), start, 1);
+                btoclApplyRowImpulse(row, &A, &B, start, 1);
                 continue;
             } else if (pass == BTOCL_PASS_PENETRATION) {
                 if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
