@@ -22,26 +22,33 @@
 #endif
 
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
-// act on the same two bodies), written back once.
+// act on the same two bodies), written back once. What a unit impulse does to it is scaled once
+// here, not at every row: a body that cannot move gets zero scales, so no row tests it.
 typedef struct {
-    btoclFloat4 invMass;  // xyz: inverse mass times linear factor; w: 1 if dynamic (BTOCL_BODY_IS_DYNAMIC)
-    btoclFloat4 linearFactor, angularFactor;
+    btoclFloat4 linearPerUnit;   // xyz: inverse mass times linear factor (times it again where factors
+                                 // are applied); 0 for a body that does not move
+    btoclFloat4 angularPerUnit;  // xyz: scales a row's angular component: the angular factor where
+                                 // factors are applied, else 1; 0 for a body that does not move
     btoclFloat4 linear, angular;  // velocity change, or push and turn velocity in the penetration pass
+    float dynamic;                // BTOCL_BODY_IS_DYNAMIC: only a dynamic body's changes are stored
 } btoclSolveBody;
 
+// applyFactors: SI applies the body factors to every impulse without SOLVER_SIMD, and to the
+// warm start always.
 BTOCL_INLINE btoclSolveBody btoclLoadSolveBody(BTOCL_GLOBAL const btoclBody* b, BTOCL_GLOBAL const btoclBodyDelta* d,
-                                               int push) {
+                                               int push, int applyFactors) {
     btoclSolveBody s;
-    s.invMass = b->invMass;
-    s.linearFactor = b->linearFactor;
-    s.angularFactor = b->angularFactor;
+    const btoclFloat4 one = BTOCL_FLOAT4(1.0f, 1.0f, 1.0f, 0.0f);
+    s.dynamic = BTOCL_BODY_IS_DYNAMIC(*b);
+    s.linearPerUnit = btoclXyz(b->invMass) * (applyFactors ? btoclXyz(b->linearFactor) : one) * s.dynamic;
+    s.angularPerUnit = (applyFactors ? btoclXyz(b->angularFactor) : one) * s.dynamic;
     s.linear = push ? d->pushVelocity : d->deltaLinearVelocity;
     s.angular = push ? d->turnVelocity : d->deltaAngularVelocity;
     return s;
 }
 
 BTOCL_INLINE void btoclStoreSolveBody(const btoclSolveBody* s, BTOCL_GLOBAL btoclBodyDelta* d, int push) {
-    if (BTOCL_BODY_IS_DYNAMIC(*s) == 0.0f) return;  // static and kinematic bodies never change
+    if (s->dynamic == 0.0f) return;  // static and kinematic bodies never change
     if (push) {
         d->pushVelocity = s->linear;
         d->turnVelocity = s->angular;
@@ -51,31 +58,21 @@ BTOCL_INLINE void btoclStoreSolveBody(const btoclSolveBody* s, BTOCL_GLOBAL btoc
     }
 }
 
-// Adds an impulse to a body's velocity change (btSolverBody::internalApplyImpulse). linear and
-// angular: the row's change per unit impulse, w lanes clear; they depend on the row alone, so
-// only the multiply-add waits for the rows before.
-BTOCL_INLINE void btoclApplyImpulse(btoclSolveBody* s, btoclFloat4 linear, btoclFloat4 angular, float impulse,
-                                    int applyFactors) {
-    if (BTOCL_BODY_IS_DYNAMIC(*s) == 0.0f) return;
-    if (applyFactors) {
-        linear = linear * s->linearFactor;
-        angular = angular * s->angularFactor;
-    }
-    s->linear = s->linear + linear * impulse;
-    s->angular = s->angular + angular * impulse;
-}
-
-// A row's impulse applied to both bodies: per unit, A along the row's normal, B against it, each
-// turned by its angular component (w lanes cleared: they carry the row's other values).
+// A row's impulse applied to both bodies (btSolverBody::internalApplyImpulse): per unit, A along
+// the row's normal, B against it, each turned by its angular component (w lanes cleared: they
+// carry the row's other values). The per-unit changes depend on the row alone, so only the
+// multiply-adds wait for the rows before.
 BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, btoclSolveBody* A, btoclSolveBody* B,
-                                       float impulse, int applyFactors) {
+                                       float impulse) {
     const btoclFloat4 n = btoclXyz(row->normal);
-    btoclApplyImpulse(A, n * A->invMass, btoclXyz(row->angularComponentA), impulse, applyFactors);
-    btoclApplyImpulse(B, -n * B->invMass, btoclXyz(row->angularComponentB), impulse, applyFactors);
+    A->linear = A->linear + (n * A->linearPerUnit) * impulse;
+    A->angular = A->angular + (btoclXyz(row->angularComponentA) * A->angularPerUnit) * impulse;
+    B->linear = B->linear - (n * B->linearPerUnit) * impulse;
+    B->angular = B->angular + (btoclXyz(row->angularComponentB) * B->angularPerUnit) * impulse;
 }
 
-// One row, its impulse clamped to [lower, upper]; returns the residual as SI reports it (the
-// impulse change over the row's effective mass). The row is read only; its applied impulse lives
+// One row, its impulse clamped to [lower, upper]; returns the impulse change (btoclResidual2
+// makes SI's residual of it). The row is read only; its applied impulse lives
 // in a compact array, so a pass writes 4 bytes per row, not a cache line. B's linear Jacobian is
 // the negative of A's (btoclSolveRow).
 // A constraint's rows form one chain (each reads the velocities the row before wrote), and on a
@@ -85,8 +82,7 @@ BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, bt
 // against two dot products per body reduced one after the other). Its rounding differs from that
 // form's, and resting figures move with it as with any reordering of the sums (README).
 BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, BTOCL_GLOBAL float* appliedImpulse,
-                                 btoclSolveBody* A, btoclSolveBody* B, float lower, float upper, int applyFactors,
-                                 int push) {
+                                 btoclSolveBody* A, btoclSolveBody* B, float lower, float upper, int push) {
     const float jacDiagABInv = BTOCL_SOLVE_ROW_JAC_DIAG_INV(*row);
     const float applied = *appliedImpulse;
     const float start =
@@ -105,8 +101,15 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
         newApplied = upper;
     }
     *appliedImpulse = newApplied;
-    btoclApplyRowImpulse(row, A, B, deltaImpulse, applyFactors);
-    return deltaImpulse * (1.0f / jacDiagABInv);
+    btoclApplyRowImpulse(row, A, B, deltaImpulse);
+    return deltaImpulse;
+}
+
+// The squared residual of a row's impulse change as SI reports it (the change over the row's
+// effective mass). Only a residual threshold reads it: without one, no row pays its divide.
+BTOCL_INLINE float btoclResidual2(BTOCL_GLOBAL const btoclSolveRow* row, float deltaImpulse) {
+    const float residual = deltaImpulse * (1.0f / BTOCL_SOLVE_ROW_JAC_DIAG_INV(*row));
+    return residual * residual;
 }
 
 // Friction and rolling rows: the limit follows the normal row's impulse of this iteration
@@ -115,7 +118,7 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
 BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
                                                 BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
                                                 BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
-                                                int applyFactors) {
+                                                int track) {
     float maxResidual2 = 0.0f;
     for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
         BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
@@ -124,8 +127,8 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstrai
         const float friction = BTOCL_SOLVE_ROW_FRICTION(*row);
         float limit = friction * total;
         if (kind == BTOCL_ROWS_ROLLING && limit > friction) limit = friction;
-        const float residual = btoclSolveRowImpulse(row, applied + r, A, B, -limit, limit, applyFactors, 0);
-        maxResidual2 = fmax(maxResidual2, residual * residual);
+        const float delta = btoclSolveRowImpulse(row, applied + r, A, B, -limit, limit, 0);
+        if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
     return maxResidual2;
 }
@@ -134,21 +137,22 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstrai
 // still takes part: SI solves a joint's rows while iteration < its override count.
 BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
                                        BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
-                                       int applyFactors, int iteration) {
+                                       int track, int iteration) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
     const int end = first + c->numRows[BTOCL_ROWS_JOINT];
     if (first == end || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
     for (int r = first; r < end; ++r) {
         BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
-        const float residual = btoclSolveRowImpulse(row, applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
-                                             BTOCL_SOLVE_ROW_UPPER(*row), applyFactors, 0);
-        maxResidual2 = fmax(maxResidual2, residual * residual);
+        const float delta = btoclSolveRowImpulse(row, applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
+                                                 BTOCL_SOLVE_ROW_UPPER(*row), 0);
+        if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
     return maxResidual2;
 }
 
-// The rows of one constraint for one pass (BTOCL_PASS_*); returns the largest squared residual.
+// The rows of one constraint for one pass (BTOCL_PASS_*); returns the largest squared residual
+// (0 unless flags has BTOCL_FLAG_TRACK_RESIDUAL).
 // iteration: the velocity iteration, from 0. A step runs max(numIterations, every joint's
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
@@ -159,22 +163,25 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
                                               BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
                                               int numIterations) {
     const int push = pass == BTOCL_PASS_PENETRATION;
-    const int applyFactors = (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
-    btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push);
-    btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push);
+    // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
+    const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+    const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push, applyFactors);
+    btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push, applyFactors);
     float maxResidual2 = 0.0f;
     // Contact rows take part while iteration < numIterations; joint rows come first, as in SI's
     // iteration, while the joint's own count allows (btoclSolveJointRows).
     const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
-            maxResidual2 = btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, normalOfRow, applied, &A, &B, applyFactors);
+            maxResidual2 =
+                btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, normalOfRow, applied, &A, &B, track);
             maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, normalOfRow, applied,
-                                                                     &A, &B, applyFactors));
+                                                                     &A, &B, track));
         }
     } else {
         // Joints are neither warm-started nor part of the split-impulse iterations (SI's neither).
-        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, applyFactors, iteration);
+        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, track, iteration);
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
         // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
@@ -186,19 +193,19 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
         for (int k = 0; k < count; ++k) {
             const int r = first + (start + k < count ? start + k : start + k - count);
             BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
-            float residual = 0.0f;
+            float delta;
             if (pass == BTOCL_PASS_WARMSTART) {
                 // SI applies each normal row's starting impulse to both bodies as it sets the row up.
                 const float start = applied[r];
-                btoclApplyRowImpulse(row, &A, &B, start, 1);
+                btoclApplyRowImpulse(row, &A, &B, start);
                 continue;
             } else if (pass == BTOCL_PASS_PENETRATION) {
                 if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
-                residual = btoclSolveRowImpulse(row, pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, applyFactors, 1);
+                delta = btoclSolveRowImpulse(row, pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 1);
             } else {
-                residual = btoclSolveRowImpulse(row, applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, applyFactors, 0);
+                delta = btoclSolveRowImpulse(row, applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);
             }
-            maxResidual2 = fmax(maxResidual2, residual * residual);
+            if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
         }
     }
     btoclStoreSolveBody(&A, deltas + c->bodyA, push);
