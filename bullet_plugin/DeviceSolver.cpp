@@ -9,7 +9,8 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
     : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
-    m_solveProgram = m_rt.buildProgramFile("solve.cl");
+    // A CPU's compiler is asked to prefetch the bodies of constraints ahead (kernels/solve.cl).
+    m_solveProgram = m_rt.buildProgramFile("solve.cl", m_rt.isCpu() ? "-DBTOCL_PREFETCH_BODIES" : "");
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
     m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
     m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
