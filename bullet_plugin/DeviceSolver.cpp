@@ -9,8 +9,9 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
     : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
-    // A CPU's compiler is asked to prefetch the bodies of constraints ahead (kernels/solve.cl).
-    m_solveProgram = m_rt.buildProgramFile("solve.cl", m_rt.isCpu() ? "-DBTOCL_PREFETCH_BODIES" : "");
+    // A CPU's compiler is asked to prefetch scattered bodies (btocl_shared.h: BTOCL_PREFETCHES).
+    const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_PREFETCH_BODIES" : "";
+    m_solveProgram = m_rt.buildProgramFile("solve.cl", prefetch);
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
     m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
     m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
@@ -18,7 +19,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
     m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
     m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
-    m_setupProgram = m_rt.buildProgramFile("setup.cl");
+    m_setupProgram = m_rt.buildProgramFile("setup.cl", prefetch);
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
     m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
     m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");

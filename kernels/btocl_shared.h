@@ -11,6 +11,17 @@
 #define BTOCL_INLINE static inline
 #endif
 
+// Software prefetch, on CPU devices only: the host builds the programs with
+// -DBTOCL_PREFETCH_BODIES there (OpenCL's own prefetch() does nothing on PoCL), and other
+// compilers may not know clang's builtin.
+#if defined(__OPENCL_VERSION__) && defined(BTOCL_PREFETCH_BODIES) && defined(__clang__)
+#define BTOCL_PREFETCHES 1
+#define BTOCL_PREFETCH(p) __builtin_prefetch((__global const char*)(p))
+#else
+#define BTOCL_PREFETCHES 0
+#define BTOCL_PREFETCH(p) ((void)0)
+#endif
+
 #ifdef __OPENCL_VERSION__
 typedef float4 btoclFloat4;
 #else

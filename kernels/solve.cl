@@ -174,18 +174,11 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
     return p;
 }
 
-// On a CPU (the host builds with BTOCL_PREFETCH_BODIES there) the bodies of the constraint a few
-// ahead are asked for: they lie scattered over more than the cores' caches hold (block 12K:
-// about 3 MB), and the loads at a constraint's start waited for them (btocl_bench --solver ocl,
-// 4 alternating rounds: block 12K's solve 43.7 -> 40.1 ms with 4 ahead, 42.0 with 1, 40.8 with 2,
-// the same as 4 with 6 or 8). OpenCL's own prefetch() does nothing on PoCL.
-#if defined(BTOCL_PREFETCH_BODIES) && defined(__clang__)
-#define BTOCL_PREFETCH_AHEAD 4
-#define BTOCL_PREFETCH(p) __builtin_prefetch((__global const char*)(p))
-#else
-#define BTOCL_PREFETCH_AHEAD 0
-#define BTOCL_PREFETCH(p)
-#endif
+// On a CPU (BTOCL_PREFETCHES) the bodies of the constraint a few ahead are asked for: they lie
+// scattered over more than the cores' caches hold (block 12K: about 3 MB), and the loads at a
+// constraint's start waited for them (btocl_bench --solver ocl, 4 alternating rounds: block 12K's
+// solve 43.7 -> 40.1 ms with 4 ahead, 42.0 with 1, 40.8 with 2, the same as 4 with 6 or 8).
+#define BTOCL_PREFETCH_AHEAD (BTOCL_PREFETCHES ? 4 : 0)
 
 // One group, one pass, one lane: its batches one after another are its constraints in order.
 BTOCL_SOLVE_INLINE float solveGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
