@@ -42,6 +42,17 @@ TEST_CASE("a kernel with a syntax error throws with the compiler's message", "[r
     }
 }
 
+// The host asks a CPU's compiler for software prefetch (btocl_shared.h) and no other: the programs
+// must build either way, the GPU's way too, though the tests run on a CPU.
+TEST_CASE("the programs that prefetch on a CPU build with and without it", "[runtime]") {
+    OclRuntime rt("");
+    for (const char* file : {"solve.cl", "setup.cl"})
+        for (const char* options : {"", "-DBTOCL_PREFETCH_BODIES"}) {
+            INFO(file << " " << options);
+            CHECK_NOTHROW(rt.buildProgramFile(file, options));
+        }
+}
+
 TEST_CASE("an unknown device string lists the devices there are", "[runtime]") {
     const std::vector<DeviceEntry> devices = listDevices();
     REQUIRE_FALSE(devices.empty());
