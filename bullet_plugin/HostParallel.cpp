@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -52,6 +53,7 @@ public:
             std::lock_guard<std::mutex> lock(m_mutex);
             m_job = &job;
             ++m_generation;
+            m_published.store(m_generation, std::memory_order_release);
         }
         m_wake.notify_all();
         const int ran = runChunks(job);
@@ -61,15 +63,36 @@ public:
         m_job = nullptr;  // a worker that wakes only now finds nothing to join
     }
 
+    void prewake(std::chrono::microseconds spin) {
+        if (m_workers.empty()) return;
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            ++m_prewakes;
+            m_spinUntil = std::chrono::steady_clock::now() + spin;
+        }
+        m_wake.notify_all();
+    }
+
 private:
     void work() {
-        unsigned long seen = 0;
+        unsigned long seen = 0, seenPrewakes = 0;
         for (;;) {
             Job* job = nullptr;
             {
                 std::unique_lock<std::mutex> lock(m_mutex);
-                m_wake.wait(lock, [&] { return m_stopping || m_generation != seen; });
+                m_wake.wait(lock, [&] { return m_stopping || m_generation != seen || m_prewakes != seenPrewakes; });
                 if (m_stopping) return;
+                if (m_generation == seen) {
+                    // Woken ahead of a loop: wait for it awake, up to the deadline, then sleep again.
+                    seenPrewakes = m_prewakes;
+                    const auto until = m_spinUntil;
+                    lock.unlock();
+                    while (m_published.load(std::memory_order_acquire) == seen &&
+                           std::chrono::steady_clock::now() < until)
+                        std::this_thread::yield();
+                    continue;
+                }
+                seenPrewakes = m_prewakes;
                 seen = m_generation;
                 job = m_job;
                 if (!job) continue;
@@ -102,6 +125,9 @@ private:
     std::condition_variable m_wake, m_done;
     Job* m_job = nullptr;
     unsigned long m_generation = 0;
+    std::atomic<unsigned long> m_published{0};  // m_generation, for workers that wait awake
+    unsigned long m_prewakes = 0;
+    std::chrono::steady_clock::time_point m_spinUntil;
     bool m_stopping = false;
 };
 
@@ -115,6 +141,8 @@ HostPool& pool() {
 }  // namespace
 
 int hostThreads() { return pool().threads(); }
+
+void prewakeHostThreads(std::chrono::microseconds spin) { pool().prewake(spin); }
 
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context) {
     pool().run(numChunks, chunk, context);

@@ -9,6 +9,7 @@
 // default wait, 3.4-4.0 and 9.3-10.0 with passive threads.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <exception>
 
@@ -26,6 +27,11 @@ inline size_t& minParallelItems() {
 
 // The threads a parallel loop runs on, the calling one included (the host's hardware threads).
 int hostThreads();
+
+// Wakes the pool's threads ahead of loops to come: each waits awake for the next loop, up to
+// `spin`, then sleeps again. A core that has idled a while (a VM's, above all) takes milliseconds
+// to wake, and a loop that starts meanwhile runs on the calling thread alone.
+void prewakeHostThreads(std::chrono::microseconds spin);
 
 // Runs chunk(c) for c in [0, numChunks) over the pool's threads, the calling thread taking part,
 // and returns when every chunk has run. One loop at a time: a second caller (another thread, or

@@ -4,6 +4,7 @@
 #include "DeviceBatcher.h"
 #include "DeviceFit.h"
 #include "DeviceSolver.h"
+#include "HostParallel.h"
 #include "InputChecks.h"
 #include "OclRuntime.h"
 #include "SolveSettings.h"
@@ -284,7 +285,11 @@ btOpenCLConstraintSolver::btOpenCLConstraintSolver(const btOpenCLSolverConfig& c
     : m_impl(std::make_unique<Impl>(config)) {}
 btOpenCLConstraintSolver::~btOpenCLConstraintSolver() = default;
 
-void btOpenCLConstraintSolver::prepareSolve(int, int) {
+void btOpenCLConstraintSolver::prepareSolve(int numBodies, int numManifolds) {
+    // The gather's loops start once the world has built its islands: a step large enough to run
+    // them in parallel wakes the host's threads now.
+    if (size_t(numManifolds) + size_t(numBodies) * 4 >= btocl::minParallelItems())
+        btocl::prewakeHostThreads(std::chrono::milliseconds(5));
     m_impl->inStep = true;
     m_impl->gathering = false;
 }

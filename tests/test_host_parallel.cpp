@@ -10,6 +10,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -174,5 +176,31 @@ TEST_CASE("parallelFor's loops back to back each run their own items", "[host][p
         btocl::parallelFor(hits.size(), [&](size_t i) { hits[i] += loop + 1; });
         for (int h : hits) allRight = allRight && h == loop + 1;
     }
+    CHECK(allRight);
+}
+
+TEST_CASE("parallelFor's loops run right around pre-wakes of the pool", "[host][parallel]") {
+    // A pre-wake leaves the workers waiting awake for a loop, up to a deadline: loops that start
+    // within it, after it, or while another thread pre-wakes the pool each run their own items
+    // once, and the pool still stops (the test's end) with workers awake or asleep.
+    ParallelFrom threshold(1);
+    auto loopRight = [](int loop) {
+        std::vector<int> hits(size_t(1 + loop % 53) * 97, 0);
+        btocl::parallelFor(hits.size(), [&](size_t i) { hits[i] += loop + 1; });
+        return std::all_of(hits.begin(), hits.end(), [&](int h) { return h == loop + 1; });
+    };
+    bool allRight = true;
+    for (int loop = 0; loop < 600; ++loop) {
+        if (loop % 3 == 0) btocl::prewakeHostThreads(std::chrono::microseconds(loop % 2 ? 2000 : 0));
+        if (loop % 50 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(3));  // past the deadline
+        allRight = allRight && loopRight(loop);
+    }
+    std::atomic<bool> stop{false};
+    std::thread waker([&] {
+        while (!stop) btocl::prewakeHostThreads(std::chrono::microseconds(500));
+    });
+    for (int loop = 0; loop < 600; ++loop) allRight = allRight && loopRight(loop);
+    stop = true;
+    waker.join();
     CHECK(allRight);
 }
