@@ -72,9 +72,9 @@ BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, bt
 }
 
 // One row, its impulse clamped to [lower, upper]; returns the impulse change (btoclResidual2
-// makes SI's residual of it). The row is read only; its applied impulse lives
-// in a compact array, so a pass writes 4 bytes per row, not a cache line. B's linear Jacobian is
-// the negative of A's (btoclSolveRow).
+// makes SI's residual of it). The row is read only; its applied impulse lives in a compact array,
+// so a pass writes 4 bytes per row, not a cache line. B's linear Jacobian is the negative of A's
+// (btoclSolveRow).
 // A constraint's rows form one chain (each reads the velocities the row before wrote), and on a
 // CPU the chain's length is the solve's speed: the velocity along the row is summed as vectors,
 // linear parts and angular parts, and reduced once, and what depends on the row alone is computed
