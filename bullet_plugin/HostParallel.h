@@ -28,6 +28,18 @@ inline size_t& minParallelItems() {
 // The threads a parallel loop runs on, the calling one included (the host's hardware threads).
 int hostThreads();
 
+// Asks for the cache lines of [begin, begin + bytes): a loop over records scattered in memory
+// calls it a few items ahead. forWrite: the loop will write them.
+inline void prefetchBytes(const void* begin, size_t bytes, bool forWrite = false) {
+    const char* first = static_cast<const char*>(begin);
+    for (size_t at = 0; at < bytes; at += 64) {
+        if (forWrite)
+            __builtin_prefetch(first + at, 1);
+        else
+            __builtin_prefetch(first + at);
+    }
+}
+
 // Wakes the pool's threads ahead of loops to come: each waits awake for the next loop, up to
 // `spin`, then sleeps again. A core that has idled a while (a VM's, above all) takes milliseconds
 // to wake, and a loop that starts meanwhile runs on the calling thread alone.

@@ -19,10 +19,7 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
     const bool keepDirections = two && (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION);
     const size_t n = p.points.size();
     parallelFor(n, [&](size_t i) {
-        if (i + 8 < n) {
-            const char* ahead = reinterpret_cast<const char*>(p.manifoldPoints[i + 8]);
-            for (size_t line = 0; line < sizeof(btManifoldPoint); line += 64) __builtin_prefetch(ahead + line, 1);
-        }
+        if (i + 8 < n) prefetchBytes(p.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
         btManifoldPoint* pt = p.manifoldPoints[i];
         if (impulses) {
             const size_t f = size_t(p.points[i].firstFrictionRow);
