@@ -34,14 +34,10 @@ namespace {
 constexpr size_t kPrefetchAhead = 4;
 constexpr size_t kItemsPerBody = 4;  // a body's record as parallelFor weighs it against manifolds
 
-// Manifolds lie scattered in memory: their points are asked for a few manifolds ahead.
-void prefetchPoints(const btPersistentManifold* m) {
-    const int n = m->getNumContacts();
-    if (n == 0) return;
-    const char* first = reinterpret_cast<const char*>(&m->getContactPoint(0));
-    const char* end = reinterpret_cast<const char*>(&m->getContactPoint(n - 1)) + sizeof(btManifoldPoint);
-    prefetchBytes(first, size_t(end - first));
-}
+// Manifolds lie scattered in memory: each is asked for whole a few manifolds ahead. Its points
+// come first and its bodies and count after them (btPersistentManifold), so the count cannot
+// say which lines to ask for without a wait of its own: the unused points' lines come too.
+void prefetchManifold(const btPersistentManifold* m) { prefetchBytes(m, sizeof(btPersistentManifold)); }
 
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
 // contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
@@ -341,10 +337,7 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(m_slots, numManifolds);
     std::fill(m_slots.begin(), m_slots.end(), ManifoldSlot{});
     parallelFor(numManifolds, [&](size_t m) {
-        if (m + kPrefetchAhead < numManifolds) {
-            __builtin_prefetch(m_manifolds[m + kPrefetchAhead]);
-            prefetchPoints(m_manifolds[m + kPrefetchAhead / 2]);  // its header arrived a while ago
-        }
+        if (m + kPrefetchAhead < numManifolds) prefetchManifold(m_manifolds[m + kPrefetchAhead]);
         countPoints(m);
     });
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
@@ -382,7 +375,7 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(p.manifoldOfConstraint, size_t(numConstraints));
 
     parallelFor(numManifolds, [&](size_t m) {
-        if (m + kPrefetchAhead < numManifolds) prefetchPoints(m_manifolds[m + kPrefetchAhead]);
+        if (m + kPrefetchAhead < numManifolds) prefetchManifold(m_manifolds[m + kPrefetchAhead]);
         packManifold(m);
     });
     for (const ManifoldSlot& slot : m_slots) p.maySplitPenetration = p.maySplitPenetration || slot.maySplit;

@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 
 namespace btocl {
@@ -28,15 +29,18 @@ inline size_t& minParallelItems() {
 // The threads a parallel loop runs on, the calling one included (the host's hardware threads).
 int hostThreads();
 
-// Asks for the cache lines of [begin, begin + bytes): a loop over records scattered in memory
-// calls it a few items ahead. forWrite: the loop will write them.
+// Asks for every cache line that [begin, begin + bytes) touches: a loop over records scattered in
+// memory calls it a few items ahead. forWrite: the loop will write them.
 inline void prefetchBytes(const void* begin, size_t bytes, bool forWrite = false) {
-    const char* first = static_cast<const char*>(begin);
-    for (size_t at = 0; at < bytes; at += 64) {
+    constexpr uintptr_t kLine = 64;
+    const uintptr_t first = reinterpret_cast<uintptr_t>(begin) & ~(kLine - 1);
+    const uintptr_t end = reinterpret_cast<uintptr_t>(begin) + bytes;
+    for (uintptr_t line = first; line < end; line += kLine) {
+        const char* at = reinterpret_cast<const char*>(line);
         if (forWrite)
-            __builtin_prefetch(first + at, 1);
+            __builtin_prefetch(at, 1);
         else
-            __builtin_prefetch(first + at);
+            __builtin_prefetch(at);
     }
 }
 
