@@ -12,6 +12,7 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <string>
 
 namespace btocl {
@@ -38,6 +39,15 @@ constexpr size_t kItemsPerBody = 4;  // a body's record as parallelFor weighs it
 // come first and its bodies and count after them (btPersistentManifold), so the count cannot
 // say which lines to ask for without a wait of its own: the unused points' lines come too.
 void prefetchManifold(const btPersistentManifold* m) { prefetchBytes(m, sizeof(btPersistentManifold)); }
+
+// What the count reads of a manifold, a third of its lines: each point's distance and rolling
+// friction (one line a point), and the bodies, count and thresholds after the points (its last line).
+void prefetchForCount(const btPersistentManifold* m) {
+    const char* first = reinterpret_cast<const char*>(&m->getContactPoint(0));
+    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j)
+        __builtin_prefetch(first + size_t(j) * sizeof(btManifoldPoint) + offsetof(btManifoldPoint, m_distance1));
+    __builtin_prefetch(reinterpret_cast<const char*>(m + 1) - 1);
+}
 
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
 // contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
@@ -337,7 +347,7 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(m_slots, numManifolds);
     std::fill(m_slots.begin(), m_slots.end(), ManifoldSlot{});
     parallelFor(numManifolds, [&](size_t m) {
-        if (m + kPrefetchAhead < numManifolds) prefetchManifold(m_manifolds[m + kPrefetchAhead]);
+        if (m + kPrefetchAhead < numManifolds) prefetchForCount(m_manifolds[m + kPrefetchAhead]);
         countPoints(m);
     });
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
