@@ -278,7 +278,7 @@ void StepGatherer::packManifold(size_t m) {
     checkManifold(*manifold, m_info, slot.anisotropic);  // before any of its points is packed
     StepProblem& p = m_problem;
     const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
-    const int frictionBase = p.numNormalRows, rollingBase = p.numNormalRows + p.numFrictionRows;
+    const int rollingBase = p.numNormalRows + p.numFrictionRows;
     const int idA = slot.bodyA, idB = slot.bodyB;
     btoclConstraint c{};
     c.bodyA = idA;
@@ -286,13 +286,13 @@ void StepGatherer::packManifold(size_t m) {
     c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
     c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
     c.firstRow[BTOCL_ROWS_NORMAL] = slot.firstPoint;
-    c.firstRow[BTOCL_ROWS_FRICTION] = frictionBase + slot.firstFriction;
+    c.firstRow[BTOCL_ROWS_FRICTION] = p.firstFrictionRowOf(slot.firstPoint, frictionRows);
     c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + slot.firstRolling;
     c.numRows[BTOCL_ROWS_NORMAL] = slot.numPoints;
     c.numRows[BTOCL_ROWS_FRICTION] = slot.numPoints * frictionRows;
     c.numRows[BTOCL_ROWS_ROLLING] = slot.numRolling * 3;
 
-    int point = slot.firstPoint, friction = c.firstRow[BTOCL_ROWS_FRICTION], rolling = c.firstRow[BTOCL_ROWS_ROLLING];
+    int point = slot.firstPoint, rolling = c.firstRow[BTOCL_ROWS_ROLLING];
     btVector3 pointSum(0, 0, 0);
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
@@ -319,12 +319,11 @@ void StepGatherer::packManifold(size_t m) {
         pt.bodyA = idA;
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
-        pt.firstFrictionRow = friction;
+        pt.firstFrictionRow = p.firstFrictionRowOf(point, frictionRows);
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
         p.points[size_t(point)] = pt;
         p.manifoldPoints[size_t(point)] = &cp;
         ++point;
-        friction += frictionRows;
         if (pt.firstRollingRow >= 0) rolling += 3;
     }
     c.position = toFloat4(pointSum / btScalar(slot.numPoints));
@@ -371,7 +370,6 @@ void StepGatherer::packManifolds() {
         if (slot.anisotropic) p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
         slot.constraint = numConstraints++;
         slot.firstPoint = numPoints;
-        slot.firstFriction = numPoints * frictionRows;
         slot.firstRolling = numRolling;
         numPoints += slot.numPoints;
         numRolling += 3 * slot.numRolling;

@@ -48,7 +48,7 @@ private:
         bool anisotropic = false;  // a body has anisotropic friction (rows set up on the host)
         int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
         int constraint = -1;                // its constraint, or -1 with no point in reach
-        int firstPoint = 0, firstFriction = 0, firstRolling = 0;
+        int firstPoint = 0, firstRolling = 0;
         bool maySplit = false;
         bool solved = false;  // a body can move (known once both bodies have records)
     };

@@ -60,6 +60,9 @@ struct StepProblem {
     HostArray<btoclFloat4> lateralDirs;
 
     int numContactPoints() const { return numNormalRows; }
+    // A contact point's first friction row: every normal row comes first, then each point's one
+    // or two friction rows (frictionRows), in point order, as the gather lays them out.
+    int firstFrictionRowOf(int point, int frictionRows) const { return numNormalRows + point * frictionRows; }
     int numJointRows() const { return int(joints.rows.size()); }
     int numRows() const { return numNormalRows + numFrictionRows + numRollingRows + numJointRows(); }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).

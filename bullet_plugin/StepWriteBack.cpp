@@ -18,14 +18,14 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
     // As SI: plane-space directions with two directions and no velocity dependence are kept.
     const bool keepDirections = two && (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION);
     const size_t n = p.points.size();
-    // A point's friction rows follow every normal row, in point order (BulletGather.cpp): found
-    // by their index, not read from the point's record (a cache line a point, for 4 bytes).
-    const size_t frictionRows = two ? 2 : 1, firstFriction = size_t(p.numNormalRows);
+    // A point's friction rows are found by their index (StepProblem::firstFrictionRowOf), not read
+    // from the point's record (a cache line a point, for 4 bytes).
+    const int frictionRows = two ? 2 : 1;
     parallelFor(n, [&](size_t i) {
         if (i + 8 < n) prefetchBytes(p.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
         btManifoldPoint* pt = p.manifoldPoints[i];
         if (impulses) {
-            const size_t f = firstFriction + i * frictionRows;
+            const size_t f = size_t(p.firstFrictionRowOf(int(i), frictionRows));
             pt->m_appliedImpulse = p.appliedImpulses[i];
             pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
             if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];
