@@ -24,7 +24,8 @@ enum class RowSetup { Device, Host };
 class StepGatherer {
 public:
     void begin(const btContactSolverInfo& info, RowSetup setup = RowSetup::Device);
-    // Throws InputError (InputChecks.h) on a body with a non-finite state, naming its world index.
+    // Names the bodies' solver bodies; their records are read by finish(), which throws InputError
+    // (InputChecks.h) on a body with a non-finite state, naming its world index.
     void addBodies(btCollisionObject* const* bodies, int numBodies);
     void addManifolds(btPersistentManifold* const* manifolds, int numManifolds);
     // Joints (btTypedConstraint); disabled ones take no rows, as with SI.
