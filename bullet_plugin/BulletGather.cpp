@@ -33,7 +33,6 @@ static_assert(BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED == BT_CONTACT_FLAG
 namespace {
 
 constexpr size_t kPrefetchAhead = 4;
-constexpr size_t kItemsPerBody = 4;  // a body's record as parallelFor weighs it against manifolds
 
 // Manifolds lie scattered in memory: each is asked for whole a few manifolds ahead. Its points
 // come first and its bodies and count after them (btPersistentManifold), so the count cannot
@@ -161,14 +160,12 @@ void StepGatherer::fillNewBodies() {
     p.deltas.resize(end);
     p.worldTransforms.resize(end);
     p.splitBodies.resize(end);
-    // A body's record costs several manifolds' packing (block 12K: 12K bodies in 3.3 ms on one
-    // thread): in parallel from a quarter of the items a manifold loop needs.
     parallelFor(end - first, [&](size_t i) {
         // A rigid body's record lies in a few cache lines of its own: asked for a few bodies ahead.
         const size_t ahead = first + i + kPrefetchAhead;
         if (ahead < end) prefetchBytes(p.original[ahead], sizeof(btRigidBody));
         fillSolverBody(int(first + i));
-    }, kItemsPerBody);
+    }, kRigidBodyWeight);
 }
 
 // Names the solver body of a rigid body; its record is filled by fillNewBodies.

@@ -60,6 +60,11 @@ void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context
 // that wakes late still takes a share (on this VM about one loop in six of block 12K's ran all
 // its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range:
 // the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
+// What one rigid body's record weighs in a loop, against a manifold's (weight 1): reading or
+// writing a body's state costs several manifolds' packing (block 12K: 12K bodies in 3.3 ms on
+// one thread).
+constexpr size_t kRigidBodyWeight = 4;
+
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
     const size_t threads = size_t(hostThreads());

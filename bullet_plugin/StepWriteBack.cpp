@@ -58,7 +58,7 @@ void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
             }
         }
         rb->setCompanionId(-1);
-    });
+    }, kRigidBodyWeight);
 }
 
 }  // namespace
