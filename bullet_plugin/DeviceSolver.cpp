@@ -21,7 +21,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
     m_setupProgram = m_rt.buildProgramFile("setup.cl", prefetch);
     m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
-    m_arrangeProgram = m_rt.buildProgramFile("arrange.cl");
+    m_arrangeProgram = m_rt.buildProgramFile("arrange.cl", prefetch);
     m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");
     m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
     m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");

@@ -14,6 +14,7 @@ __kernel void countRowsInSolveOrder(__global const int* solveOrder, __global con
                                     __global int* normalCounts, __global int* frictionCounts, int n) {
     const int i = get_global_id(0);
     if (i >= n) return;
+    if (BTOCL_PREFETCHES && i + 8 < n) BTOCL_PREFETCH(constraints + solveOrder[i + 8]);
     const btoclConstraint c = constraints[solveOrder[i]];
     normalCounts[i] = c.numRows[BTOCL_ROWS_JOINT] + c.numRows[BTOCL_ROWS_NORMAL];
     frictionCounts[i] = c.numRows[BTOCL_ROWS_FRICTION] + c.numRows[BTOCL_ROWS_ROLLING];
@@ -27,6 +28,17 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
                                __global btoclConstraint* placed, __global int* rowMap, int n) {
     const int i = get_global_id(0);
     if (i >= n) return;
+    if (BTOCL_PREFETCHES) {
+        // Constraints lie in gather order, read here in solve order, and their rows' map entries
+        // lie by gather order too: the record 16 ahead asked for, and the entries of the one 8
+        // ahead, whose record was asked for 8 constraints ago.
+        if (i + 16 < n) BTOCL_PREFETCH(constraints + solveOrder[i + 16]);
+        if (i + 8 < n) {
+            __global const btoclConstraint* ahead = constraints + solveOrder[i + 8];
+            BTOCL_PREFETCH(rowMap + ahead->firstRow[BTOCL_ROWS_NORMAL]);
+            BTOCL_PREFETCH(rowMap + ahead->firstRow[BTOCL_ROWS_FRICTION]);
+        }
+    }
     btoclConstraint c = constraints[solveOrder[i]];
     int next = normalBase[i];
     for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) {

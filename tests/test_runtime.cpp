@@ -46,7 +46,7 @@ TEST_CASE("a kernel with a syntax error throws with the compiler's message", "[r
 // must build either way, the GPU's way too, though the tests run on a CPU.
 TEST_CASE("the programs that prefetch on a CPU build with and without it", "[runtime]") {
     OclRuntime rt("");
-    for (const char* file : {"solve.cl", "setup.cl"})
+    for (const char* file : {"solve.cl", "setup.cl", "arrange.cl"})
         for (const char* options : {"", "-DBTOCL_PREFETCH_BODIES"}) {
             INFO(file << " " << options);
             CHECK_NOTHROW(rt.buildProgramFile(file, options));
