@@ -75,5 +75,6 @@ __kernel void placeRows(__global const btoclRow* in, int base, __global const in
 __kernel void gatherAppliedImpulses(__global const float* applied, __global const int* rowMap, __global float* out,
                                     int n) {
     const int r = get_global_id(0);
+    if (BTOCL_PREFETCHES && r + 16 < n) BTOCL_PREFETCH(applied + rowMap[r + 16]);  // scattered in solve order
     if (r < n) out[r] = applied[rowMap[r]];
 }
