@@ -9,8 +9,9 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
     : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
-    // A CPU's compiler is asked to prefetch scattered bodies (btocl_shared.h: BTOCL_PREFETCHES).
-    const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_PREFETCH_BODIES" : "";
+    // A CPU's compiler is asked for software prefetch of scattered records (btocl_shared.h:
+    // BTOCL_PREFETCHES): bodies in the solve and setup, constraints and impulses in the arrangement.
+    const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "";
     m_solveProgram = m_rt.buildProgramFile("solve.cl", prefetch);
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
     m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");

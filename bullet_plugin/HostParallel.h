@@ -54,17 +54,17 @@ void prewakeHostThreads(std::chrono::microseconds spin);
 // a chunk itself) runs its chunks on its own thread. chunk must not throw.
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
+// What one rigid body's record weighs in a loop, against a manifold's (weight 1): reading or
+// writing a body's state costs several manifolds' packing (block 12K: 12K bodies in 3.3 ms on
+// one thread).
+constexpr size_t kRigidBodyWeight = 4;
+
 // Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
 // `weight` (an item that costs as much as several of a manifold loop's). The items are split in
 // contiguous ranges, eight per thread, which the threads take as they come, so that a worker
 // that wakes late still takes a share (on this VM about one loop in six of block 12K's ran all
 // its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range:
 // the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
-// What one rigid body's record weighs in a loop, against a manifold's (weight 1): reading or
-// writing a body's state costs several manifolds' packing (block 12K: 12K bodies in 3.3 ms on
-// one thread).
-constexpr size_t kRigidBodyWeight = 4;
-
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
     const size_t threads = size_t(hostThreads());

@@ -12,9 +12,9 @@
 #endif
 
 // Software prefetch, on CPU devices only: the host builds the programs with
-// -DBTOCL_PREFETCH_BODIES there (OpenCL's own prefetch() does nothing on PoCL), and other
+// -DBTOCL_CPU_PREFETCH there (OpenCL's own prefetch() does nothing on PoCL), and other
 // compilers may not know clang's builtin.
-#if defined(__OPENCL_VERSION__) && defined(BTOCL_PREFETCH_BODIES) && defined(__clang__)
+#if defined(__OPENCL_VERSION__) && defined(BTOCL_CPU_PREFETCH) && defined(__clang__)
 #define BTOCL_PREFETCHES 1
 #define BTOCL_PREFETCH(p) __builtin_prefetch((__global const char*)(p))
 #else

@@ -47,7 +47,7 @@ TEST_CASE("a kernel with a syntax error throws with the compiler's message", "[r
 TEST_CASE("the programs that prefetch on a CPU build with and without it", "[runtime]") {
     OclRuntime rt("");
     for (const char* file : {"solve.cl", "setup.cl", "arrange.cl"})
-        for (const char* options : {"", "-DBTOCL_PREFETCH_BODIES"}) {
+        for (const char* options : {"", "-DBTOCL_CPU_PREFETCH"}) {
             INFO(file << " " << options);
             CHECK_NOTHROW(rt.buildProgramFile(file, options));
         }
