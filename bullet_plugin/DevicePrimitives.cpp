@@ -1,6 +1,7 @@
 #include "DevicePrimitives.h"
 
 #include "btOpenCLConstraintSolver.h"
+#include "split_grid.h"
 
 #include <boost/compute/algorithm/exclusive_scan.hpp>
 #include <boost/compute/algorithm/stable_sort_by_key.hpp>
@@ -10,7 +11,10 @@
 #include <boost/compute/iterator/buffer_iterator.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -45,10 +49,57 @@ void requireBytes(const cl::Buffer& buffer, size_t n, const char* what) {
 
 size_t ceilDiv(size_t a, size_t b) { return (a + b - 1) / b; }
 
+// What the split and arrange steps ask of the primitives for n constraints: a sort by cell key
+// (keys below BTOCL_SPLIT_NUM_KEYS, scattered), the scan of the key bins and the two scans of
+// row counts. Milliseconds from the first enqueue to the finished queue, the best of a few runs.
+double msOfSplitWork(DevicePrimitives& prims, const OclRuntime& rt, size_t n) {
+    std::vector<cl_uint> keys(n), values(n);
+    for (size_t i = 0; i < n; ++i) {
+        keys[i] = cl_uint((i * 2654435761u) >> 7) % BTOCL_SPLIT_NUM_KEYS;
+        values[i] = cl_uint(i);
+    }
+    DeviceBuffer<cl_uint> k, v, bins, rows;
+    bins.fill(rt, 1u, BTOCL_SPLIT_NUM_KEYS);
+    rows.fill(rt, 3u, n);
+    double best = std::numeric_limits<double>::infinity();
+    for (int run = 0; run < 4; ++run) {
+        k.write(rt, keys);  // the sort works in place: each run starts from the same keys
+        v.write(rt, values);
+        const auto start = std::chrono::steady_clock::now();
+        prims.sortByKeySmallRange(k.buffer(), v.buffer(), n, BTOCL_SPLIT_NUM_KEYS, false);
+        prims.exclusiveScan(bins.buffer(), bins.buffer(), BTOCL_SPLIT_NUM_KEYS);
+        prims.exclusiveScan(rows.buffer(), rows.buffer(), n);
+        prims.exclusiveScan(rows.buffer(), rows.buffer(), n);
+        rt.finish("timing the sort and scan");
+        best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    return best;
+}
+
 }  // namespace
 
+DevicePrimitives::BackendTiming DevicePrimitives::timeBackends(const OclRuntime& rt) {
+    static std::mutex mutex;
+    static std::map<cl_device_id, BackendTiming> measured;
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto known = measured.find(rt.device()());
+    if (known != measured.end()) return known->second;
+    // A small step's work (launches weigh most) and a large one's (block 12K has about 90K
+    // constraints). The backends' results are the same (stable sorts, exact integer scans), so
+    // the choice changes no step's outcome, only its time.
+    BackendTiming t;
+    for (const Backend backend : {Backend::Chunked, Backend::BoostCompute}) {
+        DevicePrimitives prims(rt, backend);
+        double& ms = backend == Backend::Chunked ? t.msChunked : t.msBoostCompute;
+        for (const size_t n : {size_t(4096), size_t(98304)}) ms += msOfSplitWork(prims, rt, n);
+    }
+    t.faster = t.msChunked <= t.msBoostCompute ? Backend::Chunked : Backend::BoostCompute;
+    measured.emplace(rt.device()(), t);
+    return t;
+}
+
 DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend) : m_rt(rt), m_backend(backend) {
-    if (m_backend == Backend::Auto) m_backend = rt.isCpu() ? Backend::Chunked : Backend::BoostCompute;
+    if (m_backend == Backend::Auto) m_backend = rt.isCpu() ? Backend::Chunked : fasterBackend(rt);
     m_maxChunks = std::min<size_t>(4 * rt.computeUnits(), 256);  // a few chunks per core balance the load
 
     if (m_backend == Backend::Chunked) {

@@ -5,8 +5,10 @@
 // sort built from the same passes, and a chunked scan. There Boost.Compute's sort is a merge
 // sort whose last passes run on few work-items, many times slower, and Boost.Compute compiles
 // its programs at first use, once per OpenCL context, which makes start-up slower too. On other
-// devices (GPUs), Boost.Compute: its radix sort and work-efficient scan use the lanes that a few
-// long serial chunks would waste. The measured figures, and the command that gives them, are
+// devices (GPUs) neither is sure to win: Boost.Compute's radix sort and work-efficient scan use
+// lanes that a few long serial chunks waste, but take many more launches (an H100 paid about 2 ms
+// a step for its sort). There both are timed on the split's work when the first solver starts,
+// and the faster is kept (fasterBackend). The CPU figures, and the command that gives them, are
 // in demos/bench/README.md ("Sort and scan: our kernels against Boost.Compute").
 //
 // Host round trips: none, except the 4-byte read of checkKeys() (see sortByKeySmallRange).
@@ -23,9 +25,19 @@ namespace btocl {
 
 class DevicePrimitives {
 public:
-    // Auto: Chunked on CPU devices, BoostCompute on others (Boost.Compute's GPU paths are a
-    // radix sort and a work-efficient scan; the chunked kernels give a GPU only a few lanes).
+    // Auto: Chunked on CPU devices, fasterBackend(rt) on others.
     enum class Backend { Auto, Chunked, BoostCompute };
+
+    // The backend that does a split's sort and scans faster on rt's device, timed by the host's
+    // clock from enqueue to finish (launches and waits are part of a step's cost), at two sizes.
+    // Measured once per device in a process (about a second, most of it building both), then
+    // remembered. Throws btOpenCLSolverError.
+    struct BackendTiming {
+        Backend faster = Backend::Chunked;
+        double msChunked = 0, msBoostCompute = 0;  // the split's work at both sizes, best runs
+    };
+    static BackendTiming timeBackends(const OclRuntime& rt);
+    static Backend fasterBackend(const OclRuntime& rt) { return timeBackends(rt).faster; }
 
     // Builds (or, for Boost.Compute, compiles and warms up) every kernel here, so the first
     // step pays nothing more. `rt` must outlive this object. Throws btOpenCLSolverError.

@@ -73,6 +73,15 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const btocl::OclRunt
     return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
 }
 
+// The sort and scan of the split. Serial path: our chunked kernels. Wide path: on a GPU the
+// faster of the two there, measured (DevicePrimitives::fasterBackend); on a CPU device, which
+// runs the wide path for the tests, Boost.Compute's, so that they cover what a GPU may get.
+btocl::DevicePrimitives::Backend primitivesFor(btOpenCLSolvePath path, const btocl::OclRuntime& runtime) {
+    using Backend = btocl::DevicePrimitives::Backend;
+    if (path == btOpenCLSolvePath::Serial) return Backend::Chunked;
+    return runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
+}
+
 }  // namespace
 
 struct btOpenCLConstraintSolver::Impl {
@@ -80,9 +89,7 @@ struct btOpenCLConstraintSolver::Impl {
         : config(checked(c)),
           runtime(c.device),
           path(resolveSolvePath(c.solvePath, runtime)),
-          // The wide path takes the sort and scan a GPU gets, on any device.
-          primitives(runtime, wide() ? btocl::DevicePrimitives::Backend::BoostCompute
-                                     : btocl::DevicePrimitives::Backend::Chunked),
+          primitives(runtime, primitivesFor(path, runtime)),
           limits(btocl::deviceLimitsOf(runtime)),
           device(runtime, primitives, wide() ? c.workGroupSize : 1),
           autoWholeStepMaxRows(wholeStepMaxRowsSerial(runtime)),
@@ -325,3 +332,5 @@ const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { retu
 std::string btOpenCLConstraintSolver::getDeviceName() const { return m_impl->runtime.deviceName(); }
 const btOpenCLSolverConfig& btOpenCLConstraintSolver::getConfig() const { return m_impl->config; }
 btOpenCLSolvePath btOpenCLConstraintSolver::getSolvePath() const { return m_impl->path; }
+
+const char* btOpenCLConstraintSolver::getSortAndScanName() const { return m_impl->primitives.backendName(); }

@@ -13,7 +13,8 @@ inline bool testsRunWide() {
     const char* path = std::getenv("BT_OPENCL_SOLVE_PATH");
     return path && std::string(path) == "wide";
 }
-// The wide path takes the sort and scan a GPU gets; the serial path our chunked kernels.
+// The wide path on a CPU device takes Boost.Compute's sort and scan (which a GPU may get); the
+// serial path our chunked kernels.
 inline DevicePrimitives::Backend testBackend() {
     return testsRunWide() ? DevicePrimitives::Backend::BoostCompute : DevicePrimitives::Backend::Chunked;
 }

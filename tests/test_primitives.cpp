@@ -176,3 +176,21 @@ TEST_CASE("bad input to the primitives gets a clear error", "[primitives]") {
     CHECK_THROWS_WITH(prims.exclusiveScan(k.buffer(), cl::Buffer(), 4), Catch::Contains("cannot hold"));
     CHECK_THROWS_AS(prims.sortByKeyBits(k.buffer(), v.buffer(), 4, 33), btOpenCLSolverError);
 }
+
+TEST_CASE("timeBackends keeps the backend that did the split's work faster, measured once per device",
+          "[primitives]") {
+    const OclRuntime& rt = fixture().rt;
+    const DevicePrimitives::BackendTiming first = DevicePrimitives::timeBackends(rt);
+    INFO("chunked " << first.msChunked << " ms, boost.compute " << first.msBoostCompute << " ms");
+    CHECK(first.msChunked > 0);
+    CHECK(first.msBoostCompute > 0);
+    CHECK(first.faster == (first.msChunked <= first.msBoostCompute ? Backend::Chunked : Backend::BoostCompute));
+    // Remembered: a second solver on the device pays nothing and gets the same choice.
+    const DevicePrimitives::BackendTiming again = DevicePrimitives::timeBackends(rt);
+    CHECK(again.msChunked == first.msChunked);
+    CHECK(again.msBoostCompute == first.msBoostCompute);
+    CHECK(DevicePrimitives::fasterBackend(rt) == first.faster);
+    // A separate runtime on the same device shares the measurement.
+    OclRuntime other{""};
+    CHECK(DevicePrimitives::timeBackends(other).msChunked == first.msChunked);
+}

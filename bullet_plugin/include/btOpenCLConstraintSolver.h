@@ -111,6 +111,8 @@ public:
     std::string getDeviceName() const;
     const btOpenCLSolverConfig& getConfig() const;
     btOpenCLSolvePath getSolvePath() const;  // the path in use (never Auto)
+    // The global split's sort and scan: "chunked" (our kernels) or "boost.compute".
+    const char* getSortAndScanName() const;
 
     struct Impl;
 

@@ -115,6 +115,8 @@ std::string summariseRun(const BenchOptions& options, const RunFacts& facts, con
     j["joints"] = any && any->scene ? Json(any->scene->joints().size()) : Json();
     j["contactPoints"] = any ? Json(any->lastCounts.contactPoints) : Json();
     j["device"] = facts.deviceName.empty() ? Json() : Json(facts.deviceName);
+    j["solvePath"] = facts.solvePath.empty() ? Json() : Json(facts.solvePath);
+    j["sortAndScan"] = facts.sortAndScan.empty() ? Json() : Json(facts.sortAndScan);
     if (options.standIn) j["standIn"] = "ours is a second btSequentialImpulseConstraintSolver (--stand-in)";
     if (si) j["si"] = sideJson(*si, facts);
     if (ours) j["ours"] = sideJson(*ours, facts);

@@ -17,6 +17,7 @@ struct RunFacts {
     btScalar divergenceFinal = 0, divergenceMax = 0;  // same body, SI world vs ours (when both ran)
     bool compared = false;                           // both sides stepped at least once
     std::string deviceName, pngFile;
+    std::string solvePath, sortAndScan;  // ours: its solve path and the split's sort and scan
     int pngFrame = -1;
     std::vector<std::string> pngPanels;  // names of the sides drawn, left to right
     double wallSeconds = 0;

@@ -83,7 +83,11 @@ int run(const BenchOptions& options) {
     if (options.withSiRandomized)
         siRandomized = makeSolverSide("siRandomized", SolverKind::BulletSIRandomized, *scene, facts.size,
                                       options.iterations, config);
-    if (ours && ours->ocl) facts.deviceName = ours->ocl->getDeviceName();
+    if (ours && ours->ocl) {
+        facts.deviceName = ours->ocl->getDeviceName();
+        facts.solvePath = ours->ocl->getSolvePath() == btOpenCLSolvePath::Serial ? "serial" : "wide";
+        facts.sortAndScan = ours->ocl->getSortAndScanName();
+    }
     const std::vector<SolverSide*> sides = {si.get(), ours.get(), siRandomized.get()};
     const std::vector<SolverSide*> drawn = {si.get(), ours.get()};  // the picture has SI and ours only
 
