@@ -33,6 +33,9 @@ public:
     // Packs every manifold's points (and, for host setup, sets the rows up) and returns the
     // finished problem. Throws InputError on a non-finite contact point.
     StepProblem& finish();
+    // The problem's host arrays take their storage from `source` (PinnedHostMemory on a GPU;
+    // null: the heap). It must outlive this gatherer or be replaced first.
+    void useHostMemory(HostMemorySource* source) { m_problem.takeHostMemoryFrom(source); }
     // Returns every body's companion id to -1 (Bullet's "not in a solver").
     void releaseBodies();
 

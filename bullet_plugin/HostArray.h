@@ -1,33 +1,82 @@
-// Host arrays that a device on the host's own memory (PoCL's CPU device) can read in place:
-// page-aligned, so that a buffer made over them with CL_MEM_USE_HOST_PTR is that memory itself
-// and a step's upload copies nothing (DeviceBuffer::shareHost).
+// Host arrays that the device reads or writes whole each step: the step's bodies, contact points
+// and results. Their storage is page-aligned, so that a device on the host's own memory (PoCL's
+// CPU device) can be handed the array itself (CL_MEM_USE_HOST_PTR, DeviceBuffer::shareHost) and a
+// step's upload copies nothing; or, for a device with memory of its own, it comes from a
+// HostMemorySource (PinnedHostMemory.h): pinned memory, which a GPU copies from and to by DMA,
+// where the driver would otherwise copy pageable memory through a pinned buffer of its own first.
 #pragma once
 
 #include <cstddef>
 #include <new>
+#include <type_traits>
 #include <vector>
 
 namespace btocl {
 
 constexpr std::size_t kHostArrayAlignment = 4096;
 
+// Where a host array's storage may come from instead of the heap.
+class HostMemorySource {
+public:
+    // At least `bytes`, aligned to kHostArrayAlignment; null when it has none to give (the array
+    // then takes the heap).
+    virtual void* allocate(std::size_t bytes) noexcept = 0;
+    // Takes back what allocate gave; false for any other pointer.
+    virtual bool deallocate(void* p) noexcept = 0;
+
+protected:
+    ~HostMemorySource() = default;
+};
+
+// Page-aligned heap memory, or the source's when one is given and has some. The source must
+// outlive every array that took memory from it. A copy of an array takes the heap: the copy may
+// outlive the source.
 template <class T>
-struct PageAlignedAllocator {
+struct HostArrayAllocator {
     using value_type = T;
-    PageAlignedAllocator() = default;
+    using propagate_on_container_copy_assignment = std::true_type;
+    using propagate_on_container_move_assignment = std::true_type;
+    using propagate_on_container_swap = std::true_type;
+
+    HostArrayAllocator() = default;
+    explicit HostArrayAllocator(HostMemorySource* s) noexcept : source(s) {}
     template <class U>
-    PageAlignedAllocator(const PageAlignedAllocator<U>&) noexcept {}
+    HostArrayAllocator(const HostArrayAllocator<U>& other) noexcept : source(other.source) {}
+
     T* allocate(std::size_t n) {
+        if (source)
+            if (void* p = source->allocate(n * sizeof(T))) return static_cast<T*>(p);
         return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kHostArrayAlignment)));
     }
-    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t(kHostArrayAlignment)); }
+    void deallocate(T* p, std::size_t) noexcept {
+        if (source && source->deallocate(p)) return;
+        ::operator delete(p, std::align_val_t(kHostArrayAlignment));
+    }
+    HostArrayAllocator select_on_container_copy_construction() const noexcept { return HostArrayAllocator(); }
+
     template <class U>
-    bool operator==(const PageAlignedAllocator<U>&) const noexcept { return true; }
+    bool operator==(const HostArrayAllocator<U>& other) const noexcept {
+        return source == other.source;
+    }
     template <class U>
-    bool operator!=(const PageAlignedAllocator<U>&) const noexcept { return false; }
+    bool operator!=(const HostArrayAllocator<U>& other) const noexcept {
+        return source != other.source;
+    }
+
+    HostMemorySource* source = nullptr;
 };
 
 template <class T>
-using HostArray = std::vector<T, PageAlignedAllocator<T>>;
+using HostArray = std::vector<T, HostArrayAllocator<T>>;
+
+// The same elements in storage from `source` (null: the heap).
+template <class T>
+void moveToSource(HostArray<T>& array, HostMemorySource* source) {
+    if (array.get_allocator().source == source) return;
+    HostArray<T> moved{HostArrayAllocator<T>(source)};
+    moved.reserve(array.capacity());
+    moved.assign(array.begin(), array.end());
+    array = std::move(moved);
+}
 
 }  // namespace btocl

@@ -59,6 +59,15 @@ struct StepProblem {
     HostArray<float> appliedImpulses;
     HostArray<btoclFloat4> lateralDirs;
 
+    // The host arrays' storage from `source` from now on (null: the heap), their elements kept.
+    void takeHostMemoryFrom(HostMemorySource* source) {
+        moveToSource(bodies, source);
+        moveToSource(deltas, source);
+        moveToSource(points, source);
+        moveToSource(appliedImpulses, source);
+        moveToSource(lateralDirs, source);
+    }
+
     int numContactPoints() const { return numNormalRows; }
     // A contact point's first friction row: every normal row comes first, then each point's one
     // or two friction rows (frictionRows), in point order, as the gather lays them out.

@@ -7,6 +7,7 @@
 #include "HostParallel.h"
 #include "InputChecks.h"
 #include "OclRuntime.h"
+#include "PinnedHostMemory.h"
 #include "SolveSettings.h"
 #include "BulletFallback.h"
 #include "BulletGather.h"
@@ -89,12 +90,16 @@ struct btOpenCLConstraintSolver::Impl {
         : config(checked(c)),
           runtime(c.device),
           path(resolveSolvePath(c.solvePath, runtime)),
+          // A device with memory of its own copies the step's arrays by DMA from pinned memory.
+          pinned(runtime.hostUnifiedMemory() ? nullptr : std::make_unique<btocl::PinnedHostMemory>(runtime)),
           primitives(runtime, primitivesFor(path, runtime)),
           limits(btocl::deviceLimitsOf(runtime)),
           device(runtime, primitives, wide() ? c.workGroupSize : 1),
           autoWholeStepMaxRows(wholeStepMaxRowsSerial(runtime)),
           batcher(runtime, primitives),
-          fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {}
+          fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {
+        gatherer.useHostMemory(pinned.get());
+    }
     // Nothing queued may outlive the host memory it reads: the step's vectors die with this.
     ~Impl() { runtime.drain(); }
 
@@ -115,6 +120,7 @@ struct btOpenCLConstraintSolver::Impl {
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
     btOpenCLSolvePath path;
+    std::unique_ptr<btocl::PinnedHostMemory> pinned;  // null on a device on the host's memory
     btocl::DevicePrimitives primitives;
     btocl::DeviceLimits limits;
     btocl::DeviceSolver device;

@@ -4,6 +4,7 @@
 
 #include "BulletGather.h"
 #include "DeviceSolver.h"
+#include "PinnedHostMemory.h"
 #include "TestDevice.h"
 #include "TestWorld.h"
 
@@ -30,15 +31,28 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
     return p;
 }
 
+// How the step's host arrays reach the device: handed over in place where it works in the
+// host's memory (PoCL), copied, or copied from pinned memory (PinnedHostMemory), as on a GPU.
+enum class Transfers { AsDevice, Copied, CopiedFromPinned };
+
 // Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order,
 // with the lanes of the path under test; launch: one launch per set and pass, or the whole step in one (SolveLaunch).
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
-// transferByCopy: copies to and from the device even where it works in the host's memory.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
                          std::vector<btoclRow>* rows = nullptr, SolveLaunch launch = SolveLaunch::PerSet,
-                         bool transferByCopy = false) {
+                         Transfers transfers = Transfers::AsDevice) {
     OclRuntime rt("");
-    if (transferByCopy) rt.transferByCopy();
+    if (transfers != Transfers::AsDevice) rt.transferByCopy();
+    PinnedHostMemory pinned(rt);
+    // The arrays back on the heap however this ends: p outlives the pinned memory.
+    struct BackToHeap {
+        StepProblem& p;
+        ~BackToHeap() { p.takeHostMemoryFrom(nullptr); }
+    } backToHeap{p};
+    if (transfers == Transfers::CopiedFromPinned) {
+        p.takeHostMemoryFrom(&pinned);
+        REQUIRE(pinned.bytesHeld() >= p.points.size() * sizeof(btoclContactPoint));
+    }
     DevicePrimitives primitives(rt, testBackend());
     DeviceSolver solver(rt, primitives, testLanesPerGroup());
     solver.upload(p);

@@ -76,7 +76,8 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
 
 TEST_CASE("results handed back in place equal results copied back", "[solve]") {
     // On PoCL the contact points, bodies and results are host arrays the kernels use in place
-    // (DeviceBuffer::enqueueUpload, enqueueDownload); a GPU copies them. Same kernels, same
+    // (DeviceBuffer::enqueueUpload, enqueueDownload); a GPU copies them, from and to pinned
+    // memory (PinnedHostMemory). Same kernels, same
     // order: only the transfers differ, so the results must be the same bits.
     World w(SolverKind::Reference);
     groundAndPile(w, 64);
@@ -84,18 +85,22 @@ TEST_CASE("results handed back in place equal results copied back", "[solve]") {
     info.m_splitImpulse = 1;
     StepProblem inPlace = gatherPileProblem(w, info, RowSetup::Device);
     REQUIRE(inPlace.numContactPoints() > 100);
-    StepProblem copied = inPlace;
+    StepProblem copied = inPlace, pinned = inPlace;
     const BatchLayout layout = buildSerialLayout(int(inPlace.constraints.size()));
     const SolveSettings settings = SolveSettings::from(info, true);
     solveOnDevice(inPlace, layout, settings, nullptr, SolveLaunch::WholeStep);
-    solveOnDevice(copied, layout, settings, nullptr, SolveLaunch::WholeStep, true);
+    solveOnDevice(copied, layout, settings, nullptr, SolveLaunch::WholeStep, Transfers::Copied);
+    solveOnDevice(pinned, layout, settings, nullptr, SolveLaunch::WholeStep, Transfers::CopiedFromPinned);
     auto sameBits = [](const auto& a, const auto& b) {
         return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
     };
     REQUIRE(inPlace.lateralDirs.size() == 2 * inPlace.points.size());
-    CHECK(sameBits(inPlace.deltas, copied.deltas));
-    CHECK(sameBits(inPlace.appliedImpulses, copied.appliedImpulses));
-    CHECK(sameBits(inPlace.lateralDirs, copied.lateralDirs));
+    for (const StepProblem* other : {&copied, &pinned}) {
+        INFO((other == &copied ? "copied" : "copied from pinned memory"));
+        CHECK(sameBits(inPlace.deltas, other->deltas));
+        CHECK(sameBits(inPlace.appliedImpulses, other->appliedImpulses));
+        CHECK(sameBits(inPlace.lateralDirs, other->lateralDirs));
+    }
     // And the solve did something: some body changed its velocity.
     bool moved = false;
     for (const btoclBodyDelta& d : inPlace.deltas) moved = moved || d.deltaLinearVelocity.y != 0.0f;
