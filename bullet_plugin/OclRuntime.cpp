@@ -167,6 +167,14 @@ OclRuntime::OclRuntime(const std::string& deviceSpec) {
     m_maxWorkGroupSize = m_device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
     m_computeUnits = std::max<cl_uint>(1, m_device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     m_hostUnifiedMemory = m_device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
+    if (const char* env = std::getenv("BT_OPENCL_TRANSFERS"); env && *env) {
+        const std::string value = env;
+        if (value == "copy")
+            transferByCopy();
+        else if (value != "auto")
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_TRANSFERS is '" + value +
+                                      "'; it takes auto or copy");
+    }
     m_localMemSize = m_device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
     m_maxAllocSize = m_device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
 }

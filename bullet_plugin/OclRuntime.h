@@ -51,7 +51,8 @@ public:
     size_t maxAllocSize() const { return m_maxAllocSize; }
     // CL_DEVICE_MAX_COMPUTE_UNITS, at least 1.
     size_t computeUnits() const { return m_computeUnits; }
-    // The device works in the host's memory (CL_DEVICE_HOST_UNIFIED_MEMORY: PoCL's CPU device).
+    // The device works in the host's memory (CL_DEVICE_HOST_UNIFIED_MEMORY: PoCL's CPU device),
+    // unless the environment variable BT_OPENCL_TRANSFERS is "copy" (see transferByCopy).
     bool hostUnifiedMemory() const { return m_hostUnifiedMemory; }
     // From now on transfers copy even on a device that works in the host's memory: the path a
     // GPU takes, for the tests to run it on PoCL. Before the first transfer.

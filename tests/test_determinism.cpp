@@ -5,21 +5,49 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <vector>
 
 using namespace testworld;
 
 namespace {
 
-std::vector<btTransform> runPile(int boxes, int steps) {
-    World w(SolverKind::OpenCL);
+std::vector<btTransform> runPile(int boxes, int steps, const btOpenCLSolverConfig& config = {}) {
+    World w(SolverKind::OpenCL, config);
     groundAndPile(w, boxes);
     for (int s = 0; s < steps; ++s) w.step();
     std::vector<btTransform> out;
     for (const btRigidBody* b : w.bodies()) out.push_back(b->getWorldTransform());
     return out;
 }
+
+size_t differingBodies(const std::vector<btTransform>& a, const std::vector<btTransform>& b) {
+    size_t differing = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (std::memcmp(&a[i], &b[i], sizeof(btTransform)) != 0) ++differing;
+    return differing;
+}
+
+// Sets an environment variable for a scope, and puts back what was there.
+struct ScopedEnv {
+    ScopedEnv(const char* name, const char* value) : name(name) {
+        const char* was = std::getenv(name);
+        had = was != nullptr;
+        if (had) saved = was;
+        setenv(name, value, 1);
+    }
+    ~ScopedEnv() {
+        if (had)
+            setenv(name, saved.c_str(), 1);
+        else
+            unsetenv(name);
+    }
+    const char* name;
+    bool had = false;
+    std::string saved;
+};
 
 }  // namespace
 
@@ -66,4 +94,25 @@ TEST_CASE("a split step ends the same whether the host reads the split back earl
     for (size_t i = 0; i < a.size(); ++i)
         if (std::memcmp(&a[i], &b[i], sizeof(btTransform)) != 0) ++differing;
     CHECK(differing == 0);
+}
+
+TEST_CASE("a pile ends bitwise the same when the step's arrays are copied from pinned memory, as on a GPU",
+          "[determinism]") {
+    // BT_OPENCL_TRANSFERS=copy: PoCL copies to and from the device as a GPU does, and the solver
+    // puts the step's host arrays in pinned memory (PinnedHostMemory). Whole and split steps.
+    btOpenCLSolverConfig split;
+    split.wholeStepMaxRows = 0;
+    for (const btOpenCLSolverConfig& config : {btOpenCLSolverConfig{}, split}) {
+        INFO("wholeStepMaxRows " << config.wholeStepMaxRows);
+        const std::vector<btTransform> inPlace = runPile(300, 30, config);
+        std::vector<btTransform> copied;
+        {
+            const ScopedEnv copy("BT_OPENCL_TRANSFERS", "copy");
+            copied = runPile(300, 30, config);
+        }
+        REQUIRE(inPlace.size() == copied.size());
+        CHECK(differingBodies(inPlace, copied) == 0);
+    }
+    const ScopedEnv bad("BT_OPENCL_TRANSFERS", "dma");
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(), Catch::Contains("BT_OPENCL_TRANSFERS is 'dma'"));
 }
