@@ -146,19 +146,19 @@ btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool 
 
 }  // namespace
 
-// Row counts first (one thread), then every joint's rows (in parallel), then the constraints
-// and their split points (one thread).
+// Row counts first (in parallel, then their running sum), then every joint's rows (in parallel),
+// then the constraints and their split points (one thread).
 JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
                            const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info) {
     JointRowSet set;
     set.maxIterations = info.m_numIterations;
     set.joints.resize(size_t(std::max(0, numConstraints)));
     // Row counts first, as SI's convertJoints (buildJacobian serves joints on the obsolete path).
-    int numRows = 0;
-    for (int i = 0; i < numConstraints; ++i) {
+    // Each joint's calls change only its own state, as with getInfo2 below.
+    parallelFor(size_t(std::max(0, numConstraints)), [&](size_t i) {
         btTypedConstraint* c = constraints[i];
         c->buildJacobian();
-        StepJoint& j = set.joints[size_t(i)];
+        StepJoint& j = set.joints[i];
         j.constraint = c;
         j.feedback = c->getJointFeedback();
         j.bodyA = bodies[i].bodyA;
@@ -171,6 +171,9 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
             c->getInfo1(&info1);
             j.numRows = info1.m_numConstraintRows;
         }
+    }, kJointWeight);
+    int numRows = 0;
+    for (StepJoint& j : set.joints) {
         j.firstRow = numRows;
         numRows += j.numRows;
     }
@@ -202,7 +205,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
                                           "the solver holds them as one");
             set.rows[size_t(j.firstRow + k)] = r;
         }
-    });
+    }, kJointWeight);
 
     // Constraints and split points on one thread: a joint's point depends on how far the joints
     // before it stretched its bodies' reach.
