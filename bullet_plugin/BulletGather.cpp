@@ -34,10 +34,16 @@ namespace {
 
 constexpr size_t kPrefetchAhead = 4;
 
-// Manifolds lie scattered in memory: each is asked for whole a few manifolds ahead. Its points
-// come first and its bodies and count after them (btPersistentManifold), so the count cannot
-// say which lines to ask for without a wait of its own: the unused points' lines come too.
-void prefetchManifold(const btPersistentManifold* m) { prefetchBytes(m, sizeof(btPersistentManifold)); }
+// Manifolds lie scattered in memory: the pack asks for a manifold a few ahead, the lines of the
+// points it holds (the count said how many) and those after its points (bodies, count and
+// thresholds). Most manifolds of a heap of ragdolls have no point: their points' lines stay away.
+void prefetchForPack(const btPersistentManifold* m, int numContacts) {
+    const char* begin = reinterpret_cast<const char*>(m);
+    const char* points = reinterpret_cast<const char*>(&m->getContactPoint(0));
+    const char* tail = points + MANIFOLD_CACHE_SIZE * sizeof(btManifoldPoint);
+    prefetchBytes(begin, size_t(points - begin) + size_t(numContacts) * sizeof(btManifoldPoint));
+    prefetchBytes(tail, size_t(reinterpret_cast<const char*>(m + 1) - tail));
+}
 
 // What the count reads of a manifold, a third of its lines: each point's distance and rolling
 // friction (one line a point), and the bodies, count and thresholds after the points (its last line).
@@ -257,6 +263,7 @@ void StepGatherer::countPoints(size_t m) {
     slot.bodyB = knownBodyOf(manifold.getBody1());
     slot.anisotropic = hasAnisotropicFriction(manifold.getBody0()) || hasAnisotropicFriction(manifold.getBody1());
     if (slot.bodyA >= 0 && slot.bodyB >= 0) slot.solved = canMove(slot);
+    slot.numContacts = manifold.getNumContacts();
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {
         const btManifoldPoint& cp = manifold.getContactPoint(j);
@@ -383,7 +390,9 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(p.manifoldOfConstraint, size_t(numConstraints));
 
     parallelFor(numManifolds, [&](size_t m) {
-        if (m + kPrefetchAhead < numManifolds) prefetchManifold(m_manifolds[m + kPrefetchAhead]);
+        const size_t ahead = m + kPrefetchAhead;
+        if (ahead < numManifolds && m_slots[ahead].constraint >= 0)  // a manifold left out is not read
+            prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
     });
     for (const ManifoldSlot& slot : m_slots) p.maySplitPenetration = p.maySplitPenetration || slot.maySplit;

@@ -50,6 +50,7 @@ private:
     struct ManifoldSlot {
         int bodyA = 0, bodyB = 0;
         bool anisotropic = false;  // a body has anisotropic friction (rows set up on the host)
+        int numContacts = 0;                // the manifold's points, in reach or not
         int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstRolling = 0;
