@@ -1,16 +1,16 @@
 // Determinism: the same world stepped twice by our solver ends bitwise equal, however the
 // device schedules its work.
 #include "Scenes.h"
+#include "ScopedEnv.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <catch2/catch.hpp>
 
-#include <cstdlib>
 #include <cstring>
-#include <string>
 #include <vector>
 
 using namespace testworld;
+using btocl::test::ScopedEnv;
 
 namespace {
 
@@ -29,25 +29,6 @@ size_t differingBodies(const std::vector<btTransform>& a, const std::vector<btTr
         if (std::memcmp(&a[i], &b[i], sizeof(btTransform)) != 0) ++differing;
     return differing;
 }
-
-// Sets an environment variable for a scope, and puts back what was there.
-struct ScopedEnv {
-    ScopedEnv(const char* name, const char* value) : name(name) {
-        const char* was = std::getenv(name);
-        had = was != nullptr;
-        if (had) saved = was;
-        setenv(name, value, 1);
-    }
-    ~ScopedEnv() {
-        if (had)
-            setenv(name, saved.c_str(), 1);
-        else
-            unsetenv(name);
-    }
-    const char* name;
-    bool had = false;
-    std::string saved;
-};
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 // non-finite field of a body (by its world index), of a contact point (by the world indices of
 // its manifold's objects) or of the solver settings (by field name), negative counts. Each
 // refused step leaves the world byte-for-byte as it was; the solver then steps on.
+#include "ScopedEnv.h"
 #include "SettledPile.h"
 #include "WorldSnapshot.h"
 #include "btOpenCLConstraintSolver.h"
@@ -358,26 +359,22 @@ TEST_CASE("a joint with a non-finite pivot is refused, naming the joint, with or
 }
 
 TEST_CASE("a device name that matches nothing is reported with where it came from", "[errors][device]") {
-    const char* was = std::getenv("BT_OPENCL_DEVICE");
-    const std::string saved = was ? was : "";
-    setenv("BT_OPENCL_DEVICE", "no-such-device-xyz", 1);
     std::string fromEnv, fromConfig;
-    try {
-        btOpenCLConstraintSolver solver;  // config.device empty: the environment decides
-    } catch (const btOpenCLSolverError& e) {
-        fromEnv = e.what();
+    {
+        const btocl::test::ScopedEnv device("BT_OPENCL_DEVICE", "no-such-device-xyz");
+        try {
+            btOpenCLConstraintSolver solver;  // config.device empty: the environment decides
+        } catch (const btOpenCLSolverError& e) {
+            fromEnv = e.what();
+        }
+        btOpenCLSolverConfig config;
+        config.device = "no-such-device-abc";
+        try {
+            btOpenCLConstraintSolver solver(config);
+        } catch (const btOpenCLSolverError& e) {
+            fromConfig = e.what();
+        }
     }
-    btOpenCLSolverConfig config;
-    config.device = "no-such-device-abc";
-    try {
-        btOpenCLConstraintSolver solver(config);
-    } catch (const btOpenCLSolverError& e) {
-        fromConfig = e.what();
-    }
-    if (was)
-        setenv("BT_OPENCL_DEVICE", saved.c_str(), 1);
-    else
-        unsetenv("BT_OPENCL_DEVICE");
     INFO("from the environment: " << fromEnv << "\nfrom the config: " << fromConfig);
     CHECK(fromEnv.find("'no-such-device-xyz' (the environment variable BT_OPENCL_DEVICE") != std::string::npos);
     CHECK(fromConfig.find("'no-such-device-abc' (btOpenCLSolverConfig::device)") != std::string::npos);
