@@ -77,9 +77,9 @@ btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPoints) {
     prm.linearSlop = info.m_linearSlop;
     prm.restitutionVelocityThreshold = info.m_restitutionVelocityThreshold;
     prm.warmstartingFactor = info.m_warmstartingFactor;
-    prm.splitImpulsePenetrationThreshold = info.m_splitImpulsePenetrationThreshold;
+    prm.pushThreshold = info.m_splitImpulsePenetrationThreshold;
     prm.frictionERP = info.m_frictionERP;
-    prm.splitImpulse = info.m_splitImpulse;
+    prm.usePush = info.m_splitImpulse;
     prm.solverMode = info.m_solverMode;
     prm.numPoints = numPoints;
     return prm;
@@ -105,7 +105,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.joints = JointRowSet{};
     p.jointRowBase = 0;
     p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
-    p.maySplitPenetration = false;
+    p.mayNeedPush = false;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
@@ -306,7 +306,7 @@ void StepGatherer::packManifold(size_t m) {
         // As btoclNormalRow decides (a share needs a penetration, and one past the threshold).
         const btScalar penetration = cp.getDistance() + m_info.m_linearSlop;
         if (m_info.m_splitImpulse && penetration < 0 && !(penetration > m_info.m_splitImpulsePenetrationThreshold))
-            slot.maySplit = true;
+            slot.mayNeedPush = true;
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
         pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());
@@ -395,7 +395,7 @@ void StepGatherer::packManifolds() {
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
     });
-    for (const ManifoldSlot& slot : m_slots) p.maySplitPenetration = p.maySplitPenetration || slot.maySplit;
+    for (const ManifoldSlot& slot : m_slots) p.mayNeedPush = p.mayNeedPush || slot.mayNeedPush;
 }
 
 StepProblem& StepGatherer::finish() {

@@ -54,7 +54,7 @@ private:
         int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstRolling = 0;
-        bool maySplit = false;
+        bool mayNeedPush = false;
         bool solved = false;  // a body can move (known once both bodies have records)
     };
     int namedBodyOf(btCollisionObject* object);

@@ -45,7 +45,7 @@ std::vector<StepBuffer> stepBuffers(const StepCounts& c) {
         {"push impulses", c.rows, sizeof(float)},
         {"impulses read back", c.rows, sizeof(float)},
         {"rows set up on the host", c.hostRows, sizeof(btoclRow)},
-        // DeviceBatcher and its sort (DevicePrimitives)
+        // DeviceLayout and its sort (DevicePrimitives)
         {"overflow flags", c.bodies, sizeof(cl_uchar)},
         {"split keys", n, sizeof(cl_uint)},
         {"sorted constraints", n, sizeof(int)},

@@ -1,5 +1,5 @@
 // Whether a step fits the device, checked before its first enqueue: every device buffer the step
-// needs (DeviceSolver, DeviceBatcher, DevicePrimitives) computed from the step's counts and the
+// needs (DeviceSolver, DeviceLayout, DevicePrimitives) computed from the step's counts and the
 // records' sizes (kernels/btocl_shared.h), against the largest single allocation and the global
 // memory of the device. Keep stepBuffers() in step with those classes when a layout changes.
 #pragma once

@@ -14,7 +14,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "";
     m_solveProgram = m_rt.buildProgramFile("solve.cl", prefetch);
     m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
-    m_passKernels[BTOCL_PASS_PENETRATION] = m_rt.makeKernel(m_solveProgram, "solvePenetrationRows");
+    m_passKernels[BTOCL_PASS_PUSH] = m_rt.makeKernel(m_solveProgram, "solvePushRows");
     m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
     m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
     m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
@@ -26,7 +26,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");
     m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
     m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");
-    m_gatherImpulses = m_rt.makeKernel(m_arrangeProgram, "gatherAppliedImpulses");
+    m_impulsesToGatherOrder = m_rt.makeKernel(m_arrangeProgram, "impulsesToGatherOrder");
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
@@ -42,7 +42,7 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_constraints.enqueueWrite(m_rt, p.constraints);
     m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
     for (const btoclRow& r : p.rows)  // the setup kernel flags the rows it sets up
-            if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PENETRATION] = 1;
+            if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PUSH] = 1;
     m_control.enqueueWrite(m_rt, m_controlStart);
     if (p.rowsOnDevice) m_points.enqueueUpload(m_rt, p.points);
     m_hostRows.enqueueWrite(m_rt, p.rows);
@@ -116,7 +116,7 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
             m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(),
             m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.maxIterations, s.residualThreshold,
-            s.warmStart ? 1 : 0, s.splitImpulse ? 1 : 0);
+            s.warmStart ? 1 : 0, s.usePush ? 1 : 0);
     m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
 }
 
@@ -125,14 +125,14 @@ void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSe
 // group's batches are walked by one lane. The progress block is cleared on the device, in order
 // before the launch.
 void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
-    const int penetrationIterations = s.splitImpulse && p.maySplitPenetration ? s.numIterations : 0;
-    const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, penetrationIterations, s.numIterations, s.maxIterations);
+    const int pushIterations = s.usePush && p.mayNeedPush ? s.numIterations : 0;
+    const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, pushIterations, s.numIterations, s.maxIterations);
     const int workGroups = int(m_rt.computeUnits());
-    m_progress.fill(m_rt, 0, size_t(btoclProgressSize(workGroups, numPasses, penetrationIterations, s.maxIterations)));
+    m_progress.fill(m_rt, 0, size_t(btoclProgressSize(workGroups, numPasses, pushIterations, s.maxIterations)));
     setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),
             m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
             m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,
-            s.residualThreshold, s.warmStart ? 1 : 0, penetrationIterations);
+            s.residualThreshold, s.warmStart ? 1 : 0, pushIterations);
     m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
 }
 
@@ -154,9 +154,9 @@ void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout,
         setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, split);
         m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
     };
-    if (s.splitImpulse && p.maySplitPenetration)
+    if (s.usePush && p.mayNeedPush)
         for (int it = 0; it < s.numIterations; ++it) {
-            launchPass(layout, BTOCL_PASS_PENETRATION, s, it);
+            launchPass(layout, BTOCL_PASS_PUSH, s, it);
             endIteration(1);
         }
     for (int it = 0; it < s.maxIterations; ++it) {
@@ -174,8 +174,8 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
     p.appliedImpulses.resize(size_t(n));
     if (n > 0) {
         m_impulses.prepareDownload(m_rt, p.appliedImpulses);
-        setArgs(m_gatherImpulses, m_applied.buffer(), m_rowMap.buffer(), m_impulses.buffer(), n);
-        m_rt.launch(m_gatherImpulses, size_t(n), kLanes, "launching gatherAppliedImpulses");
+        setArgs(m_impulsesToGatherOrder, m_applied.buffer(), m_rowMap.buffer(), m_impulses.buffer(), n);
+        m_rt.launch(m_impulsesToGatherOrder, size_t(n), kLanes, "launching impulsesToGatherOrder");
         m_impulses.enqueueDownload(m_rt, p.appliedImpulses);
     }
     if (p.rowsOnDevice) {

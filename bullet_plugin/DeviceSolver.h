@@ -46,7 +46,7 @@ public:
     // Places constraints and rows in the layout's solve order and sets the rows up there
     // (kernels/arrange.cl, kernels/setup.cl).
     void arrange(StepProblem& p, const DeviceLayoutView& layout);
-    // Enqueues the warm start and every split-impulse and velocity iteration.
+    // Enqueues the warm start and every push and velocity iteration.
     void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
@@ -67,7 +67,7 @@ private:
     DevicePrimitives& m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
-    cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_gatherImpulses;
+    cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_impulsesToGatherOrder;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
     DeviceBuffer<btoclConstraint> m_constraints, m_placed;

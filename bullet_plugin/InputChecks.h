@@ -28,8 +28,8 @@ void checkSolveGroupArguments(btCollisionObject* const* bodies, int numBodies, b
                               int numManifolds, btTypedConstraint* const* constraints, int numConstraints);
 
 // m_timeStep positive and finite, m_numIterations not negative, and every other setting the
-// step reads finite (the warm-start factor with warm starting, the split-impulse settings with
-// split impulse).
+// step reads finite (the warm-start factor with warm starting, the push settings with
+// m_splitImpulse).
 void checkSolverInfo(const btContactSolverInfo& info);
 
 // A dynamic or kinematic body as the gather reads it: transform (origin and basis), velocities,

@@ -148,15 +148,15 @@ btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool 
 
 // Row counts first (in parallel, then their running sum), then every joint's rows (in parallel),
 // then the constraints and their split points (one thread).
-JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
+JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, const JointBodies* bodies,
                            const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info) {
     JointRowSet set;
     set.maxIterations = info.m_numIterations;
-    set.joints.resize(size_t(std::max(0, numConstraints)));
+    set.joints.resize(size_t(std::max(0, numJoints)));
     // Row counts first, as SI's convertJoints (buildJacobian serves joints on the obsolete path).
     // Each joint's calls change only its own state, as with getInfo2 below.
-    parallelFor(size_t(std::max(0, numConstraints)), [&](size_t i) {
-        btTypedConstraint* c = constraints[i];
+    parallelFor(size_t(std::max(0, numJoints)), [&](size_t i) {
+        btTypedConstraint* c = joints[i];
         c->buildJacobian();
         StepJoint& j = set.joints[i];
         j.constraint = c;
@@ -182,7 +182,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
 
     // Rows: each joint's getInfo2 writes only its own rows and its own state, so the joints are
     // filled in parallel (HostParallel.h), each thread with a scratch array of its own.
-    parallelFor(size_t(numConstraints), [&](size_t i) {
+    parallelFor(size_t(numJoints), [&](size_t i) {
         const StepJoint& j = set.joints[i];
         if (j.numRows == 0) return;
         thread_local btConstraintArray scratch;
@@ -210,7 +210,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstra
     // Constraints and split points on one thread: a joint's point depends on how far the joints
     // before it stretched its bodies' reach.
     ReachBoxes reach(solverBodies.size());
-    for (int i = 0; i < numConstraints; ++i) {
+    for (int i = 0; i < numJoints; ++i) {
         StepJoint& j = set.joints[size_t(i)];
         if (j.numRows == 0) continue;
         btTypedConstraint& c = *j.constraint;

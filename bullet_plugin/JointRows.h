@@ -50,10 +50,10 @@ struct JointRowSet {
     int maxIterations = 0;
 };
 
-// Rows for `numConstraints` joints. bodies[i]: joint i's solver bodies; solverBodies: the step's
+// Rows for `numJoints` joints. bodies[i]: joint i's solver bodies; solverBodies: the step's
 // body records (StepProblem::bodies), read for the external impulses of this step and the
 // dynamic bodies' state. Throws btOpenCLSolverError when a joint's row is not finite.
-JointRowSet setUpJointRows(btTypedConstraint* const* constraints, int numConstraints, const JointBodies* bodies,
+JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, const JointBodies* bodies,
                            const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info);
 
 }  // namespace btocl

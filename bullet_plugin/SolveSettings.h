@@ -12,7 +12,7 @@ struct SolveSettings {
     int maxIterations = 10;      // velocity iterations run: more when a joint's override asks
     int flags = 0;               // BTOCL_FLAG_*
     float residualThreshold = 0;
-    bool splitImpulse = false;
+    bool usePush = false;
     bool warmStart = false;      // apply the rows' starting impulses before the iterations
 
     // rotatePoints: each iteration starts a manifold's points at another one (btOpenCLSolverConfig).
@@ -20,7 +20,7 @@ struct SolveSettings {
         SolveSettings s;
         s.numIterations = s.maxIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
-        s.splitImpulse = info.m_splitImpulse != 0;
+        s.usePush = info.m_splitImpulse != 0;
         s.warmStart = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
         // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
         if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;

@@ -43,9 +43,9 @@ struct StepProblem {
     HostArray<btoclContactPoint> points;
     std::vector<btManifoldPoint*> manifoldPoints;  // the btManifoldPoint of each point
     btoclSetupParams setupParams{};
-    // Some point may give its normal row a split-impulse share (split impulse on and a penetration
-    // deeper than m_splitImpulsePenetrationThreshold): the split-impulse iterations then run.
-    bool maySplitPenetration = false;
+    // Some point may give its normal row a push share (split impulse on and a penetration
+    // deeper than m_splitImpulsePenetrationThreshold): the push iterations then run.
+    bool mayNeedPush = false;
     // ... unless rowsOnDevice is false: then the host set them up (HostRowSetup.h). `rows` holds
     // the rows set up on the host, in gather order from row hostRowBase on: every row then, or
     // the joint rows alone when the device sets the contact rows up.

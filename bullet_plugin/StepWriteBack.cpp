@@ -37,7 +37,7 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
     });
 }
 
-// Velocities, split-impulse transforms and companion ids of the solver bodies (0 is the fixed body).
+// Velocities, push transforms and companion ids of the solver bodies (0 is the fixed body).
 void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
     parallelFor(p.original.size() - 1, [&](size_t k) {
         const size_t i = k + 1;

@@ -9,7 +9,7 @@
 
 namespace btocl {
 
-// Velocities (and split-impulse transforms) of the bodies, applied impulses of the points (with
+// Velocities (and push transforms) of the bodies, applied impulses of the points (with
 // warm starting, as SI), their friction directions and flags, the joints' applied impulses,
 // feedback and breaking (JointWriteBack.h). Releases the bodies' companion ids.
 void writeBackStep(const StepProblem& p, const btContactSolverInfo& info);

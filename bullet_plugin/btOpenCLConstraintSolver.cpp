@@ -1,7 +1,7 @@
 #include "btOpenCLConstraintSolver.h"
 
 #include "LayoutValidator.h"
-#include "DeviceBatcher.h"
+#include "DeviceLayout.h"
 #include "DeviceFit.h"
 #include "DeviceSolver.h"
 #include "HostParallel.h"
@@ -125,7 +125,7 @@ struct btOpenCLConstraintSolver::Impl {
     btocl::DeviceLimits limits;
     btocl::DeviceSolver device;
     double autoWholeStepMaxRows;  // serial path, wholeStepMaxRows -1
-    btocl::DeviceBatcher batcher;
+    btocl::DeviceLayout batcher;
     btocl::StepGatherer gatherer;
     std::unique_ptr<btocl::SequentialFallback> fallback;  // with fallbackToBullet
     btOpenCLSolverStats stats;
@@ -276,7 +276,7 @@ struct btOpenCLConstraintSolver::Impl {
         s.msSetup = runtime.phaseMs(btocl::DevicePhase::Setup);
         s.msSolve = runtime.phaseMs(btocl::DevicePhase::Solve);
         s.msDownload = runtime.phaseMs(btocl::DevicePhase::Download);
-        const btocl::DeviceBatchStats& batchStats = batcher.stats();
+        const btocl::DeviceLayoutStats& batchStats = batcher.stats();
         s.numCellGroups = batchStats.numCellGroups;
         s.numGroups = batcher.numGroups();
         s.solvedWholeStep = wholeStep && !p.constraints.empty();

@@ -72,7 +72,7 @@ __kernel void placeRows(__global const btoclRow* in, int base, __global const in
 }
 
 // The applied impulse of rows [0, n) in gather order, for the write-back to the manifold points.
-__kernel void gatherAppliedImpulses(__global const float* applied, __global const int* rowMap, __global float* out,
+__kernel void impulsesToGatherOrder(__global const float* applied, __global const int* rowMap, __global float* out,
                                     int n) {
     const int r = get_global_id(0);
     if (BTOCL_PREFETCHES && r + 16 < n) BTOCL_PREFETCH(applied + rowMap[r + 16]);  // scattered in solve order

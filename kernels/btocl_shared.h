@@ -41,11 +41,11 @@ enum { BTOCL_ROWS_JOINT, BTOCL_ROWS_NORMAL, BTOCL_ROWS_FRICTION, BTOCL_ROWS_ROLL
 
 // The passes of a step, each over all constraints, set after set:
 // warm start: the normal rows' starting impulses applied to the bodies;
-// penetration: the normal rows on push and turn velocities (split impulse), once per iteration;
+// push: the normal rows on push and turn velocities (Bullet's split impulse), once per iteration;
 // normal and friction: the two halves of a velocity iteration, in SI's order of kinds: every
 // constraint's joint and normal rows, then every constraint's friction and rolling rows (a
 // constraint's friction right after its own normal rows lets resting stacks creep; README).
-enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_NUM_PASSES };
+enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_NUM_PASSES };
 
 // Flags of the solve kernels (SolveSettings::flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
@@ -67,9 +67,9 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PA
 #define BTOCL_CONTROL_STOPPED 0         // velocity iterations converged
 #define BTOCL_CONTROL_RESIDUAL 1        // max squared residual of this iteration, as float bits
 #define BTOCL_CONTROL_ITERATIONS 2      // velocity iterations run
-#define BTOCL_CONTROL_SPLIT_STOPPED 3   // split-impulse iterations converged
-#define BTOCL_CONTROL_SPLIT_RESIDUAL 4
-#define BTOCL_CONTROL_HAS_PENETRATION 5  // some row has a split-impulse share (rhsPenetration != 0)
+#define BTOCL_CONTROL_PUSH_STOPPED 3   // push iterations converged
+#define BTOCL_CONTROL_PUSH_RESIDUAL 4
+#define BTOCL_CONTROL_HAS_PUSH 5  // some row has a push share (rhsPenetration != 0)
 #define BTOCL_CONTROL_SIZE 8
 
 // The progress buffer of solveStepClaimed (kernels/solve.cl), all zero at the launch, in ints:
@@ -77,20 +77,20 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PENETRATION, BTOCL_PASS_NORMAL, BTOCL_PA
 // the others while they wait); one squared residual per iteration (float bits), the split-
 // impulse iterations first; then each work-group's claim counters, one per pass and set.
 #define BTOCL_PROGRESS_LINE 16
-BTOCL_INLINE int btoclPassesOfStep(int warmStart, int penetrationIterations, int numIterations, int maxIterations) {
+BTOCL_INLINE int btoclPassesOfStep(int warmStart, int pushIterations, int numIterations, int maxIterations) {
     const int withFriction = numIterations < maxIterations ? numIterations : maxIterations;
-    return warmStart + penetrationIterations + 2 * withFriction + (maxIterations - withFriction);
+    return warmStart + pushIterations + 2 * withFriction + (maxIterations - withFriction);
 }
 BTOCL_INLINE int btoclRoundToLine(int n) { return (n + BTOCL_PROGRESS_LINE - 1) / BTOCL_PROGRESS_LINE * BTOCL_PROGRESS_LINE; }
 BTOCL_INLINE int btoclProgressResiduals(int workGroups) { return workGroups * BTOCL_PROGRESS_LINE; }
-BTOCL_INLINE int btoclProgressClaims(int workGroups, int penetrationIterations, int maxIterations) {
-    return btoclRoundToLine(btoclProgressResiduals(workGroups) + penetrationIterations + maxIterations);
+BTOCL_INLINE int btoclProgressClaims(int workGroups, int pushIterations, int maxIterations) {
+    return btoclRoundToLine(btoclProgressResiduals(workGroups) + pushIterations + maxIterations);
 }
 BTOCL_INLINE int btoclProgressClaimsPerGroup(int numPasses) {
     return btoclRoundToLine(numPasses * (BTOCL_OVERFLOW_SET + 1));
 }
-BTOCL_INLINE int btoclProgressSize(int workGroups, int numPasses, int penetrationIterations, int maxIterations) {
-    return btoclProgressClaims(workGroups, penetrationIterations, maxIterations) +
+BTOCL_INLINE int btoclProgressSize(int workGroups, int numPasses, int pushIterations, int maxIterations) {
+    return btoclProgressClaims(workGroups, pushIterations, maxIterations) +
            workGroups * btoclProgressClaimsPerGroup(numPasses);
 }
 
@@ -119,7 +119,7 @@ typedef struct {
 typedef struct {
     btoclFloat4 deltaLinearVelocity;
     btoclFloat4 deltaAngularVelocity;
-    btoclFloat4 pushVelocity;  // split impulse
+    btoclFloat4 pushVelocity;  // push (m_splitImpulse): position correction apart from velocity
     btoclFloat4 turnVelocity;
 } btoclBodyDelta;
 
@@ -137,7 +137,7 @@ typedef struct {
     int flags;
 } btoclRow;
 #define BTOCL_ROW_RHS(r) ((r).contactNormal1.w)
-#define BTOCL_ROW_RHS_PENETRATION(r) ((r).relpos1CrossNormal.w)  // split impulse's share; 0: none
+#define BTOCL_ROW_RHS_PENETRATION(r) ((r).relpos1CrossNormal.w)  // the push share; 0: none
 #define BTOCL_ROW_CFM(r) ((r).contactNormal2.w)
 #define BTOCL_ROW_JAC_DIAG_INV(r) ((r).relpos2CrossNormal.w)     // jacDiagABInv
 #define BTOCL_ROW_LOWER(r) ((r).angularComponentA.w)
@@ -200,8 +200,8 @@ typedef struct {
 typedef struct {
     float timeStep, invTimeStep, sor, globalCfm;
     float erp2, linearSlop, restitutionVelocityThreshold, warmstartingFactor;
-    float splitImpulsePenetrationThreshold, frictionERP;
-    int splitImpulse, solverMode;
+    float pushThreshold, frictionERP;
+    int usePush, solverMode;
     int numPoints, pad0, pad1, pad2;
 } btoclSetupParams;
 

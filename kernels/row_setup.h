@@ -132,8 +132,8 @@ BTOCL_INLINE btoclRow btoclNormalRow(const btoclContactPoint* pt, const btoclBod
         positionalError = -penetration * erp * prm->invTimeStep;
     const float penetrationImpulse = positionalError * jac;
     const float velocityImpulse = velocityError * jac;
-    // Split impulse: a shallow penetration is resolved by the push velocities instead.
-    if (prm->splitImpulse && !(penetration > prm->splitImpulsePenetrationThreshold)) {
+    // Push (m_splitImpulse): a shallow penetration is resolved by the push velocities instead.
+    if (prm->usePush && !(penetration > prm->pushThreshold)) {
         BTOCL_ROW_RHS(r) = velocityImpulse;
         BTOCL_ROW_RHS_PENETRATION(r) = penetrationImpulse;
     } else {

@@ -162,7 +162,7 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
                                               BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
                                               BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
                                               int numIterations) {
-    const int push = pass == BTOCL_PASS_PENETRATION;
+    const int push = pass == BTOCL_PASS_PUSH;
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
@@ -180,7 +180,7 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
                                                                      &A, &B, track));
         }
     } else {
-        // Joints are neither warm-started nor part of the split-impulse iterations (SI's neither).
+        // Joints are neither warm-started nor part of the push iterations (SI's neither).
         if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, track, iteration);
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
@@ -199,8 +199,8 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
                 const float start = applied[r];
                 btoclApplyRowImpulse(row, &A, &B, start);
                 continue;
-            } else if (pass == BTOCL_PASS_PENETRATION) {
-                if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no split-impulse share
+            } else if (pass == BTOCL_PASS_PUSH) {
+                if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no push share
                 delta = btoclSolveRowImpulse(row, pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 1);
             } else {
                 delta = btoclSolveRowImpulse(row, applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);

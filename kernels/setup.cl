@@ -41,8 +41,8 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const int normalRow = rowMap[i];
     const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
     storeRow(rows, normalOfRow, applied, pushApplied, normalRow, normal, BTOCL_ROWS_NORMAL, normalRow);
-    // Most steps have no point this deep: the host then launches no split-impulse pass.
-    if (BTOCL_ROW_RHS_PENETRATION(normal) != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PENETRATION, 1);
+    // Most steps have no point this deep: the host then launches no push pass.
+    if (BTOCL_ROW_RHS_PENETRATION(normal) != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PUSH, 1);
 
     if (pt.firstRollingRow >= 0) {
         float4 axis0, axis1;

@@ -14,7 +14,7 @@
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
 // this one wrote), the lanes of the work-group sharing a batch. Returns this lane's largest
 // squared residual. Every lane must call it: it holds barriers.
-inline float solveGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
+inline float solveCellGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
                         __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
                         __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
                         int pass, int flags, int iteration, int numIterations) {
@@ -39,13 +39,13 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
                      __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
                      __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
                      const int pass, int flags, int iteration, int numIterations) {
-    const int split = pass == BTOCL_PASS_PENETRATION;
-    if (control[split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
-    const float maxResidual2 = solveGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow,
+    const int push = pass == BTOCL_PASS_PUSH;
+    if (control[push ? BTOCL_CONTROL_PUSH_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
+    const float maxResidual2 = solveCellGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow,
                                           applied, pushApplied, bodies, deltas, pass, flags, iteration, numIterations);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
-        atomic_max(control + (split ? BTOCL_CONTROL_SPLIT_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
+        atomic_max(control + (push ? BTOCL_CONTROL_PUSH_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
 }
 
 // One kernel per pass, so that the compiler folds the pass's branches away. iteration: the
@@ -61,17 +61,17 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
                  deltas, control, PASS, flags, iteration, numIterations);                                    \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
-BTOCL_SOLVE_SET_KERNEL(solvePenetrationRows, BTOCL_PASS_PENETRATION)
+BTOCL_SOLVE_SET_KERNEL(solvePushRows, BTOCL_PASS_PUSH)
 BTOCL_SOLVE_SET_KERNEL(solveNormalRows, BTOCL_PASS_NORMAL)
 BTOCL_SOLVE_SET_KERNEL(solveFrictionRows, BTOCL_PASS_FRICTION)
 
 // After each iteration of the per-set launches when a residual threshold is set: stop once the
 // iteration's residual is small enough.
-__kernel void endIteration(__global int* control, float threshold, int split) {
-    const int stopSlot = split ? BTOCL_CONTROL_SPLIT_STOPPED : BTOCL_CONTROL_STOPPED;
-    const int residualSlot = split ? BTOCL_CONTROL_SPLIT_RESIDUAL : BTOCL_CONTROL_RESIDUAL;
+__kernel void endIteration(__global int* control, float threshold, int push) {
+    const int stopSlot = push ? BTOCL_CONTROL_PUSH_STOPPED : BTOCL_CONTROL_STOPPED;
+    const int residualSlot = push ? BTOCL_CONTROL_PUSH_RESIDUAL : BTOCL_CONTROL_RESIDUAL;
     if (control[stopSlot]) return;
-    if (!split) control[BTOCL_CONTROL_ITERATIONS] += 1;
+    if (!push) control[BTOCL_CONTROL_ITERATIONS] += 1;
     if (as_float(control[residualSlot]) <= threshold) control[stopSlot] = 1;
     control[residualSlot] = 0;
 }
@@ -84,7 +84,7 @@ inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __
                             int iteration, int numIterations) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
-        maxResidual2 = fmax(maxResidual2, solveGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied,
+        maxResidual2 = fmax(maxResidual2, solveCellGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied,
                                                      pushApplied, bodies, deltas, pass, flags, iteration, numIterations));
     return maxResidual2;
 }
@@ -100,8 +100,8 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
     return converged;
 }
 
-// A whole step in one launch of one work-group: the warm start, the split-impulse iterations
-// (when some row has a share: control[BTOCL_CONTROL_HAS_PENETRATION]), then the velocity
+// A whole step in one launch of one work-group: the warm start, the push iterations
+// (when some row has a share: control[BTOCL_CONTROL_HAS_PUSH]), then the velocity
 // iterations (maxIterations: m_numIterations, or more for joints that ask for more), each stopped
 // on the device by the residual threshold when one is set. Leaves the velocity iterations run in
 // control[BTOCL_CONTROL_ITERATIONS].
@@ -110,7 +110,7 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
                              __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
                              __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
                              int flags, int numIterations, int maxIterations, float threshold, int warmStart,
-                             int splitImpulse) {
+                             int usePush) {
     __local int groupResidual;
     if (get_local_id(0) == 0) groupResidual = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -118,10 +118,10 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
     if (warmStart)
         solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,
                        deltas, BTOCL_PASS_WARMSTART, flags, 0, numIterations);
-    if (splitImpulse && control[BTOCL_CONTROL_HAS_PENETRATION])
+    if (usePush && control[BTOCL_CONTROL_HAS_PUSH])
         for (int it = 0; it < numIterations; ++it) {
             const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied,
-                                           pushApplied, bodies, deltas, BTOCL_PASS_PENETRATION, flags, it,
+                                           pushApplied, bodies, deltas, BTOCL_PASS_PUSH, flags, it,
                                            numIterations);
             if (track && iterationConverged(&groupResidual, r, threshold)) break;
         }
@@ -138,14 +138,14 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
 }
 
 // Which pass and iteration a pass index of solveStepClaimed is: the warm start (when asked),
-// the split-impulse iterations, then the velocity iterations (normal then friction while
+// the push iterations, then the velocity iterations (normal then friction while
 // iteration < numIterations, normal alone past it, for joints that ask for more).
 typedef struct {
     int pass, iteration;
     int residual;  // index of this iteration's residual among the step's; -1 for the warm start
 } btoclClaimedPass;
 
-inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationIterations, int numIterations,
+inline btoclClaimedPass claimedPassAt(int index, int warmStart, int pushIterations, int numIterations,
                                       int maxIterations) {
     btoclClaimedPass p;
     p.residual = -1;
@@ -155,13 +155,13 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
         return p;
     }
     index -= warmStart;
-    if (index < penetrationIterations) {
-        p.pass = BTOCL_PASS_PENETRATION;
+    if (index < pushIterations) {
+        p.pass = BTOCL_PASS_PUSH;
         p.iteration = index;
         p.residual = index;
         return p;
     }
-    index -= penetrationIterations;
+    index -= pushIterations;
     const int withFriction = min(numIterations, maxIterations);
     if (index < 2 * withFriction) {
         p.iteration = index / 2;
@@ -170,7 +170,7 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
         p.iteration = index - withFriction;  // past the 2 * withFriction passes of both halves
         p.pass = BTOCL_PASS_NORMAL;
     }
-    p.residual = penetrationIterations + p.iteration;
+    p.residual = pushIterations + p.iteration;
     return p;
 }
 
@@ -181,7 +181,7 @@ inline btoclClaimedPass claimedPassAt(int index, int warmStart, int penetrationI
 #define BTOCL_PREFETCH_AHEAD (BTOCL_PREFETCHES ? 4 : 0)
 
 // One group, one pass, one lane: its batches one after another are its constraints in order.
-BTOCL_SOLVE_INLINE float solveGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
+BTOCL_SOLVE_INLINE float solveCellGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
                                            __global const btoclSolveRow* rows, __global const int* normalOfRow,
                                            __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
                                            __global btoclBodyDelta* deltas, int pass, int flags, int iteration, int numIterations) {
@@ -233,7 +233,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
     __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
     __global int* control, __global int* progress, int flags, int numIterations, int maxIterations, float threshold,
-    int warmStart, int penetrationIterations) {
+    int warmStart, int pushIterations) {
     int setStart[BTOCL_NUM_SETS + 2];
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
     const int numGroups = setStart[BTOCL_NUM_SETS + 1];
@@ -242,16 +242,16 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     const int groupsPerClaim = max(1, 64 / max(1, numConstraints / max(1, numGroups)));
     const int self = get_group_id(0), numRanges = get_num_groups(0);
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
-    const int numPasses = btoclPassesOfStep(warmStart, penetrationIterations, numIterations, maxIterations);
-    const int hasPenetration = control[BTOCL_CONTROL_HAS_PENETRATION];
+    const int numPasses = btoclPassesOfStep(warmStart, pushIterations, numIterations, maxIterations);
+    const int hasPenetration = control[BTOCL_CONTROL_HAS_PUSH];
     __global int* finished = progress + self * BTOCL_PROGRESS_LINE;
     __global int* residuals = progress + btoclProgressResiduals(numRanges);
-    __global int* claims = progress + btoclProgressClaims(numRanges, penetrationIterations, maxIterations);
+    __global int* claims = progress + btoclProgressClaims(numRanges, pushIterations, maxIterations);
     const int claimsPerGroup = btoclProgressClaimsPerGroup(numPasses);
     int finishedHere = 0, iterationsRun = maxIterations;
     for (int passIndex = 0; passIndex < numPasses; ++passIndex) {
         const btoclClaimedPass p =
-            claimedPassAt(passIndex, warmStart, penetrationIterations, numIterations, maxIterations);
+            claimedPassAt(passIndex, warmStart, pushIterations, numIterations, maxIterations);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = setStart[set], count = setStart[set + 1] - first;
             if (count == 0) continue;
@@ -263,8 +263,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
             // converged. Their groups are still taken and counted, so the counts stay whole.
             const int previousConverged = track && p.residual >= 0 && p.iteration > 0 &&
                                           as_float(atomic_or(residuals + p.residual - 1, 0)) <= threshold;
-            if (previousConverged && p.pass != BTOCL_PASS_PENETRATION) iterationsRun = min(iterationsRun, p.iteration);
-            const int solve = !previousConverged && (p.pass != BTOCL_PASS_PENETRATION || hasPenetration);
+            if (previousConverged && p.pass != BTOCL_PASS_PUSH) iterationsRun = min(iterationsRun, p.iteration);
+            const int solve = !previousConverged && (p.pass != BTOCL_PASS_PUSH || hasPenetration);
             for (int k = 0; k < numRanges; ++k) {
                 const int range = self + k < numRanges ? self + k : self + k - numRanges;
                 const int2 r = claimRange(first, count, range, numRanges);
@@ -276,12 +276,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                             // The pass as a constant in each call, so that the compiler folds its branches away.
                             const btoclGroup g = groups[group];
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                           \
-    solveGroupOneLane(g, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, PASS, flags, \
+    solveCellGroupOneLane(g, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, PASS, flags, \
                       p.iteration, numIterations)
                             const float groupResidual2 =
                                 p.pass == BTOCL_PASS_NORMAL        ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_NORMAL)
                                 : p.pass == BTOCL_PASS_FRICTION    ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_FRICTION)
-                                : p.pass == BTOCL_PASS_PENETRATION ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_PENETRATION)
+                                : p.pass == BTOCL_PASS_PUSH ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_PUSH)
                                                                    : BTOCL_SOLVE_CLAIMED(BTOCL_PASS_WARMSTART);
 #undef BTOCL_SOLVE_CLAIMED
                             // Before the group counts as finished: whoever sees it finished sees this.

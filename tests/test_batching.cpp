@@ -6,7 +6,7 @@
 #include "JointScenes.h"
 #include "HostBatching.h"
 #include "LayoutValidator.h"
-#include "DeviceBatcher.h"
+#include "DeviceLayout.h"
 #include "TestDevice.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -31,7 +31,7 @@ namespace {
 struct Fixture {
     OclRuntime rt{""};
     DevicePrimitives primitives{rt, testBackend()};
-    DeviceBatcher batcher{rt, primitives};
+    DeviceLayout batcher{rt, primitives};
     DeviceBuffer<btoclConstraint> constraints;
 };
 Fixture& fixture() {
@@ -195,7 +195,7 @@ TEST_CASE("two builds of a 1000-body pile give bitwise equal layouts", "[batchin
     (void)b;
     const BatchLayout c = runDevice(scene);
     // A second batcher: fresh buffers and kernels.
-    DeviceBatcher other(fixture().rt, fixture().primitives);
+    DeviceLayout other(fixture().rt, fixture().primitives);
     DeviceBuffer<btoclConstraint> buffer;
     buffer.write(fixture().rt, scene.constraints);
     other.build(buffer, int(scene.constraints.size()), scene.bodies, SplitParams{});

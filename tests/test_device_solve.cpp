@@ -1,6 +1,6 @@
 // The device solve (kernels/solve.cl) against its serial host reference (HostSolver), on rows
 // gathered from a real world: the same iterations to rounding, and the same stop on a residual.
-#include "DeviceBatcher.h"
+#include "DeviceLayout.h"
 #include "GatherAndSolve.h"
 #include "LayoutValidator.h"
 #include "HostSolver.h"
@@ -146,7 +146,7 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     StepProblem dev = host;
     OclRuntime rt("");
     DevicePrimitives primitives(rt, testBackend());
-    DeviceBatcher batcher(rt, primitives);
+    DeviceLayout batcher(rt, primitives);
     DeviceBuffer<btoclConstraint> constraints;
     constraints.write(rt, host.constraints);
     LayoutOptions options;

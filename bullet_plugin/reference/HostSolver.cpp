@@ -78,9 +78,9 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
     const int maxIterations = iterationsWithJoints(p, settings.numIterations, numJointRows);
     if (p.numNormalRows > 0 || numJointRows > 0) {
         if (settings.warmStart) pass(BTOCL_PASS_WARMSTART, 0);
-        if (settings.splitImpulse)
+        if (settings.usePush)
             for (int it = 0; it < settings.numIterations; ++it)
-                if (pass(BTOCL_PASS_PENETRATION, it) <= settings.residualThreshold && track) break;
+                if (pass(BTOCL_PASS_PUSH, it) <= settings.residualThreshold && track) break;
         for (int it = 0; it < maxIterations; ++it) {
             const float normal = pass(BTOCL_PASS_NORMAL, it);  // before the friction: SI's order of kinds
             const float residual = std::max(normal, pass(BTOCL_PASS_FRICTION, it));

@@ -10,7 +10,7 @@
 namespace btocl {
 
 // Solves rows set up on the host (p.rows, gather order) in `layout`'s order: the warm start,
-// the split-impulse and the velocity iterations (as many as SI runs: joints may ask for more).
+// the push and the velocity iterations (as many as SI runs: joints may ask for more).
 // Leaves p.deltas as DeviceSolver::download does, and p.appliedImpulses for every row (the device
 // reads back the normal and friction rows, the first ones). Returns the velocity iterations run.
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings);

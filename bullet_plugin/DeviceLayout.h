@@ -31,7 +31,7 @@ struct LayoutOptions {
     bool setStartsOnDevice = false;
 };
 
-struct DeviceBatchStats {
+struct DeviceLayoutStats {
     int numConstraints = 0;
     int numCellGroups = 0;          // groups of sets 0..3 (the overflow group is not a cell)
     int numBatchesMax = 0;          // over all groups, overflow included
@@ -40,11 +40,11 @@ struct DeviceBatchStats {
     float cellSize = 0;
 };
 
-class DeviceBatcher {
+class DeviceLayout {
 public:
     // Builds the split program and the batch program for 64 lanes. `rt` and `primitives` (the sort
     // and scan) must outlive this object.
-    DeviceBatcher(const OclRuntime& rt, DevicePrimitives& primitives);
+    DeviceLayout(const OclRuntime& rt, DevicePrimitives& primitives);
 
     // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
     // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
@@ -67,7 +67,7 @@ public:
 
     // Valid once the queue has finished the build's commands (the batch counts are read back
     // without a wait of their own).
-    const DeviceBatchStats& stats() const;
+    const DeviceLayoutStats& stats() const;
 
     // Host copy of the layout, for tests and validation (blocking).
     BatchLayout download() const;
@@ -110,7 +110,7 @@ private:
     int m_n = 0;
     mutable std::array<int, BTOCL_NUM_SETS + 2> m_setGroupStart{};
     mutable bool m_summaryPending = false;  // read back with the step's last wait, not taken yet
-    mutable DeviceBatchStats m_stats;
+    mutable DeviceLayoutStats m_stats;
     mutable bool m_statsReady = true;
 };
 

@@ -1,4 +1,4 @@
-#include "DeviceBatcher.h"
+#include "DeviceLayout.h"
 
 #include "batch_priority.h"
 #include "btOpenCLConstraintSolver.h"
@@ -28,7 +28,7 @@ size_t batchLocalBytes(int wg, int window) {
 
 }  // namespace
 
-DeviceBatcher::DeviceBatcher(const OclRuntime& rt, DevicePrimitives& primitives) : m_rt(rt), m_prims(primitives) {
+DeviceLayout::DeviceLayout(const OclRuntime& rt, DevicePrimitives& primitives) : m_rt(rt), m_prims(primitives) {
     // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
     m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
     m_splitBounds = rt.makeKernel(m_splitProgram, "splitBounds");
@@ -42,7 +42,7 @@ DeviceBatcher::DeviceBatcher(const OclRuntime& rt, DevicePrimitives& primitives)
     batchProgram(64);
 }
 
-int DeviceBatcher::windowSize(int wg) const {
+int DeviceLayout::windowSize(int wg) const {
     if (wg < 1 || size_t(wg) > m_rt.maxWorkGroupSize())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: workGroupSize " + std::to_string(wg) +
                                   " is outside 1.." + std::to_string(m_rt.maxWorkGroupSize()) + " on " +
@@ -56,7 +56,7 @@ int DeviceBatcher::windowSize(int wg) const {
     return window;
 }
 
-DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
+DeviceLayout::BatchProgram& DeviceLayout::batchProgram(int wg) {
     auto it = m_batchPrograms.find(wg);
     if (it != m_batchPrograms.end()) return it->second;
     BatchProgram p;
@@ -69,7 +69,7 @@ DeviceBatcher::BatchProgram& DeviceBatcher::batchProgram(int wg) {
     return m_batchPrograms.emplace(wg, std::move(p)).first->second;
 }
 
-void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
+void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
                           const std::vector<SplitBody>& bodies, const SplitParams& params,
                           const LayoutOptions& options) {
     if (params.batchIterations < 1)
@@ -83,7 +83,7 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
     m_n = n;
     m_summaryPending = false;
     m_setGroupStart.fill(0);
-    m_stats = DeviceBatchStats{};
+    m_stats = DeviceLayoutStats{};
     m_statsReady = false;
     m_groupsHost.clear();
     if (n == 0) return;
@@ -107,7 +107,7 @@ void DeviceBatcher::build(const DeviceBuffer<btoclConstraint>& constraints, int 
 }
 
 // Every constraint in group 0 of set 0, in gather order.
-void DeviceBatcher::layOutOneGroup(int n) {
+void DeviceLayout::layOutOneGroup(int n) {
     m_identityHost.resize(size_t(n));
     for (int i = 0; i < n; ++i) m_identityHost[size_t(i)] = i;
     m_sorted.enqueueWrite(m_rt, m_identityHost);
@@ -122,7 +122,7 @@ void DeviceBatcher::layOutOneGroup(int n) {
     }
 }
 
-void DeviceBatcher::takeSummary(const int* summary) const {
+void DeviceLayout::takeSummary(const int* summary) const {
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) m_setGroupStart[size_t(s)] = summary[s];
     m_stats.numCellGroups = m_setGroupStart[BTOCL_NUM_SETS];
     m_stats.numOverflowConstraints = summary[BTOCL_NUM_SETS + 2];
@@ -130,13 +130,13 @@ void DeviceBatcher::takeSummary(const int* summary) const {
     m_summaryPending = false;
 }
 
-const std::array<int, BTOCL_NUM_SETS + 2>& DeviceBatcher::setGroupStart() const {
+const std::array<int, BTOCL_NUM_SETS + 2>& DeviceLayout::setGroupStart() const {
     if (m_summaryPending) takeSummary(m_summaryHost.data());  // the queue has finished: read back
     return m_setGroupStart;
 }
 
 // The global split (DESIGN §1): cell keys, a stable sort by key, one group per non-empty cell.
-void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
+void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                           const SplitParams& params) {
     const OclRuntime& rt = m_rt;
     const SplitBodiesPlan plan = planSplitBodies(bodies, params);
@@ -189,7 +189,7 @@ void DeviceBatcher::split(const DeviceBuffer<btoclConstraint>& constraints, int 
     takeSummary(m_summaryHost.data());
 }
 
-const DeviceBatchStats& DeviceBatcher::stats() const {
+const DeviceLayoutStats& DeviceLayout::stats() const {
     setGroupStart();  // takes a summary read back with the step's last wait
     if (m_statsReady) return m_stats;
     // Without local batches every group is one run.
@@ -204,7 +204,7 @@ const DeviceBatchStats& DeviceBatcher::stats() const {
     return m_stats;
 }
 
-BatchLayout DeviceBatcher::download() const {
+BatchLayout DeviceLayout::download() const {
     m_rt.finish("batching constraints on the device");
     BatchLayout layout;
     layout.solveOrder = solveOrder().read(m_rt, size_t(m_n));
