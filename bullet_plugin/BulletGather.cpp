@@ -101,10 +101,8 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     // constraints, manifoldOfConstraint, points and manifoldPoints are sized and overwritten by
     // packManifolds: kept here, they are neither zeroed nor fresh memory every step.
     p.rows.clear();
-    p.hostRowBase = 0;
     p.joints = JointRowSet{};
-    p.jointRowBase = 0;
-    p.numNormalRows = p.numFrictionRows = p.numRollingRows = 0;
+    p.regions = btoclRowRegionsOf(0, 0, 0, 0);
     p.mayNeedPush = false;
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
@@ -233,15 +231,15 @@ void StepGatherer::addJointRows() {
             bodies[i].bodyB = solverBodyOf(&m_joints[i]->getRigidBodyB());
         }
     p.joints = setUpJointRows(m_joints.data(), int(m_joints.size()), bodies.data(), p.bodies, m_info);
-    p.jointRowBase = p.numNormalRows + p.numFrictionRows + p.numRollingRows;
+    p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
+                                  p.numRowsOf(BTOCL_ROWS_ROLLING), int(p.joints.rows.size()));
     for (btoclConstraint c : p.joints.constraints) {
-        c.firstRow[BTOCL_ROWS_JOINT] += p.jointRowBase;
+        c.firstRow[BTOCL_ROWS_JOINT] += p.rowStart(BTOCL_ROWS_JOINT);
         p.constraints.push_back(c);
         p.manifoldOfConstraint.push_back(nullptr);
     }
     for (size_t b = 0; b < p.splitBodies.size(); ++b)
         p.splitBodies[b].extent = std::max(p.splitBodies[b].extent, p.joints.splitExtent[b]);
-    if (p.rowsOnDevice) p.hostRowBase = p.jointRowBase;  // the host's rows are the joints' alone
     p.rows.insert(p.rows.end(), p.joints.rows.begin(), p.joints.rows.end());
 }
 
@@ -284,7 +282,6 @@ void StepGatherer::packManifold(size_t m) {
     checkManifold(*manifold, m_info, slot.anisotropic);  // before any of its points is packed
     StepProblem& p = m_problem;
     const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
-    const int rollingBase = p.numNormalRows + p.numFrictionRows;
     const int idA = slot.bodyA, idB = slot.bodyB;
     btoclConstraint c{};
     c.bodyA = idA;
@@ -293,7 +290,7 @@ void StepGatherer::packManifold(size_t m) {
     c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
     c.firstRow[BTOCL_ROWS_NORMAL] = slot.firstPoint;
     c.firstRow[BTOCL_ROWS_FRICTION] = p.firstFrictionRowOf(slot.firstPoint, frictionRows);
-    c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + slot.firstRolling;
+    c.firstRow[BTOCL_ROWS_ROLLING] = p.rowStart(BTOCL_ROWS_ROLLING) + slot.firstRolling;
     c.numRows[BTOCL_ROWS_NORMAL] = slot.numPoints;
     c.numRows[BTOCL_ROWS_FRICTION] = slot.numPoints * frictionRows;
     c.numRows[BTOCL_ROWS_ROLLING] = slot.numRolling * 3;
@@ -381,9 +378,7 @@ void StepGatherer::packManifolds() {
         numPoints += slot.numPoints;
         numRolling += 3 * slot.numRolling;
     }
-    p.numNormalRows = numPoints;
-    p.numFrictionRows = numPoints * frictionRows;
-    p.numRollingRows = numRolling;
+    p.regions = btoclRowRegionsOf(numPoints, numPoints * frictionRows, numRolling, 0);
     resizeForOverwrite(p.points, size_t(numPoints));
     resizeForOverwrite(p.manifoldPoints, size_t(numPoints));
     resizeForOverwrite(p.constraints, size_t(numConstraints));

@@ -21,7 +21,7 @@ StepCounts countsOf(const StepProblem& p) {
     c.bodies = p.bodies.size();
     c.constraints = p.constraints.size();
     c.points = p.points.size();
-    c.frictionRows = size_t(p.numFrictionRows);
+    c.frictionRows = size_t(p.numRowsOf(BTOCL_ROWS_FRICTION));
     c.rows = size_t(p.numRows());
     c.hostRows = p.rows.size();
     c.rowsOnDevice = p.rowsOnDevice;

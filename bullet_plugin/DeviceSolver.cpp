@@ -79,16 +79,14 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
     m_rt.launch(m_countRows, size_t(n), kLanes, "launching countRowsInSolveOrder");
     m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
     m_primitives.exclusiveScan(m_frictionRowBase.buffer(), m_frictionRowBase.buffer(), size_t(n));
-    const int frictionRegion = p.numNormalRows + p.numJointRows();
+    const int frictionRegion = btoclFrictionRegionStart(&p.regions);
     setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(),
             m_frictionRowBase.buffer(), frictionRegion, m_placed.buffer(), m_rowMap.buffer(), n);
     m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
 
     if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'
-        const int frictionStart = p.numNormalRows, rollingStart = frictionStart + p.numFrictionRows;
-        const cl_int4 firstOfKind = {{0, frictionStart, rollingStart, rollingStart + p.numRollingRows}};
-        setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase, m_rowMap.buffer(), m_rows.buffer(),
-                m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), int(p.rows.size()), firstOfKind);
+        setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase(), m_rowMap.buffer(), m_rows.buffer(),
+                m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), int(p.rows.size()), p.regions);
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
@@ -198,20 +196,16 @@ std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
     std::vector<int> unmap(n);
     for (size_t r = 0; r < n; ++r) unmap[size_t(map[r])] = int(r);
     // Each gather row's kind and bodies: contact rows from their point, joint rows from their joint.
-    const int frictionStart = p.numNormalRows, rollingStart = frictionStart + p.numFrictionRows;
     std::vector<btoclRow> rows(n);
     for (size_t g = 0; g < n; ++g) {
         const size_t at = size_t(map[g]);
         const btoclSolveRow& s = placed[at];
         btoclRow& r = rows[g];
-        const int kind = int(g) >= p.jointRowBase && p.numJointRows() > 0 ? BTOCL_ROWS_JOINT
-                         : int(g) >= rollingStart                      ? BTOCL_ROWS_ROLLING
-                         : int(g) >= frictionStart                     ? BTOCL_ROWS_FRICTION
-                                                                       : BTOCL_ROWS_NORMAL;
+        const int kind = btoclKindOfRow(&p.regions, int(g));
         r.frictionIndex = kind == BTOCL_ROWS_FRICTION || kind == BTOCL_ROWS_ROLLING ? unmap[size_t(normalOf[at])] : -1;
         if (kind == BTOCL_ROWS_JOINT) {
             for (const StepJoint& j : p.joints.joints)
-                if (int(g) - p.jointRowBase >= j.firstRow && int(g) - p.jointRowBase < j.firstRow + j.numRows) {
+                if (int(g) - p.rowStart(BTOCL_ROWS_JOINT) >= j.firstRow && int(g) - p.rowStart(BTOCL_ROWS_JOINT) < j.firstRow + j.numRows) {
                     r.bodyA = j.bodyA;
                     r.bodyB = j.bodyB;
                 }

@@ -27,7 +27,7 @@ btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direct
 void setupRowsOnHost(StepProblem& p) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
-    const int rollingBase = p.numNormalRows + p.numFrictionRows;
+    const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
     p.rows.assign(size_t(rollingBase), btoclRow{});
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
@@ -72,7 +72,8 @@ void setupRowsOnHost(StepProblem& p) {
         }
         c.numRows[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size()) - c.firstRow[BTOCL_ROWS_ROLLING];
     }
-    p.numRollingRows = int(rolling.size());
+    p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
+                                  int(rolling.size()), p.numJointRows());
     p.rows.insert(p.rows.end(), rolling.begin(), rolling.end());
 }
 

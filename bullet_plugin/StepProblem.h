@@ -28,15 +28,13 @@ struct StepProblem {
     std::vector<SplitBody> splitBodies;
 
     // One constraint per manifold that has points in reach, then one per joint with rows; the
-    // rows of each kind contiguous, laid out in gather order as [normal rows][friction rows]
-    // [rolling rows][joint rows].
+    // rows of each kind contiguous, in their regions of gather order (btoclRowRegions).
     std::vector<btoclConstraint> constraints;
     std::vector<btPersistentManifold*> manifoldOfConstraint;  // null for a joint
-    int numNormalRows = 0, numFrictionRows = 0, numRollingRows = 0;
+    btoclRowRegions regions = btoclRowRegionsOf(0, 0, 0, 0);
 
     // The step's joints and their rows, set up on the host as SI sets them up (JointRows.h).
     JointRowSet joints;
-    int jointRowBase = 0;  // gather index of the first joint row
 
     // One record per contact point; normal row i is point i. kernels/setup.cl sets the rows up
     // from them on the device ...
@@ -47,11 +45,11 @@ struct StepProblem {
     // deeper than m_splitImpulsePenetrationThreshold): the push iterations then run.
     bool mayNeedPush = false;
     // ... unless rowsOnDevice is false: then the host set them up (HostRowSetup.h). `rows` holds
-    // the rows set up on the host, in gather order from row hostRowBase on: every row then, or
+    // the rows set up on the host, in gather order from row hostRowBase() on: every row then, or
     // the joint rows alone when the device sets the contact rows up.
     bool rowsOnDevice = true;
     std::vector<btoclRow> rows;
-    int hostRowBase = 0;
+    int hostRowBase() const { return rowsOnDevice ? rowStart(BTOCL_ROWS_JOINT) : 0; }
 
     // After the solve: applied impulses of every row (gather order), and the two friction
     // directions of each point (the host's or the device's choice). HostArray: written in place
@@ -68,12 +66,14 @@ struct StepProblem {
         moveToSource(lateralDirs, source);
     }
 
-    int numContactPoints() const { return numNormalRows; }
-    // A contact point's first friction row: every normal row comes first, then each point's one
-    // or two friction rows (frictionRows), in point order, as the gather lays them out.
-    int firstFrictionRowOf(int point, int frictionRows) const { return numNormalRows + point * frictionRows; }
-    int numJointRows() const { return int(joints.rows.size()); }
-    int numRows() const { return numNormalRows + numFrictionRows + numRollingRows + numJointRows(); }
+    int rowStart(int kind) const { return regions.start[kind]; }
+    int numRowsOf(int kind) const { return btoclRegionRows(&regions, kind); }
+    int numRows() const { return regions.start[BTOCL_NUM_ROW_KINDS]; }
+    int numContactPoints() const { return numRowsOf(BTOCL_ROWS_NORMAL); }  // normal row i is point i
+    int numJointRows() const { return numRowsOf(BTOCL_ROWS_JOINT); }
+    // A contact point's first friction row: each point's one or two friction rows (frictionRows),
+    // in point order, as the gather lays them out.
+    int firstFrictionRowOf(int point, int frictionRows) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRows; }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
     int maxIterations(int numIterations) const { return joints.rows.empty() ? numIterations : joints.maxIterations; }
 };

@@ -65,7 +65,7 @@ void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
 
 void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
     writeBackPoints(p, info);
-    writeBackJoints(p.joints, p.appliedImpulses.data() + p.jointRowBase, info);
+    writeBackJoints(p.joints, p.appliedImpulses.data() + p.rowStart(BTOCL_ROWS_JOINT), info);
     writeBackBodies(p, info);
 }
 

@@ -9,15 +9,17 @@
 #include "row_setup.h"
 
 // Rows of the constraint at solve position i: normalCounts[i] in the first region, frictionCounts[i]
-// in the second.
+// in the second (btoclInFrictionRegion).
 __kernel void countRowsInSolveOrder(__global const int* solveOrder, __global const btoclConstraint* constraints,
                                     __global int* normalCounts, __global int* frictionCounts, int n) {
     const int i = get_global_id(0);
     if (i >= n) return;
     if (BTOCL_PREFETCHES && i + 8 < n) BTOCL_PREFETCH(constraints + solveOrder[i + 8]);
     const btoclConstraint c = constraints[solveOrder[i]];
-    normalCounts[i] = c.numRows[BTOCL_ROWS_JOINT] + c.numRows[BTOCL_ROWS_NORMAL];
-    frictionCounts[i] = c.numRows[BTOCL_ROWS_FRICTION] + c.numRows[BTOCL_ROWS_ROLLING];
+    int counts[2] = {0, 0};
+    for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) counts[btoclInFrictionRegion(kind)] += c.numRows[kind];
+    normalCounts[i] = counts[0];
+    frictionCounts[i] = counts[1];
 }
 
 // Constraint solveOrder[i] goes to position i, its rows of the first region from normalBase[i]
@@ -40,38 +42,34 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
         }
     }
     btoclConstraint c = constraints[solveOrder[i]];
-    int next = normalBase[i];
+    int next[2] = {normalBase[i], frictionRegion + frictionBase[i]};
     for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind) {
-        if (kind == BTOCL_ROWS_FRICTION) next = frictionRegion + frictionBase[i];
-        for (int k = 0; k < c.numRows[kind]; ++k) rowMap[c.firstRow[kind] + k] = next + k;
-        c.firstRow[kind] = next;
-        next += c.numRows[kind];
+        const int region = btoclInFrictionRegion(kind);
+        for (int k = 0; k < c.numRows[kind]; ++k) rowMap[c.firstRow[kind] + k] = next[region] + k;
+        c.firstRow[kind] = next[region];
+        next[region] += c.numRows[kind];
     }
     placed[i] = c;
 }
 
 // Rows set up on the host, gather rows [base, base + n), to their places as the iterations read
-// them; their starting impulses to the compact arrays that the solve updates. firstOfKind: the
-// gather index where each kind's rows begin (normal rows at 0, then friction, rolling, joint).
+// them; their starting impulses to the compact arrays that the solve updates.
 __kernel void placeRows(__global const btoclRow* in, int base, __global const int* rowMap,
                         __global btoclSolveRow* out, __global int* normalOfRow, __global float* applied,
-                        __global float* pushApplied, int n, int4 firstOfKind) {
+                        __global float* pushApplied, int n, btoclRowRegions regions) {
     const int r = get_global_id(0);
     if (r >= n) return;
     const btoclRow row = in[r];
     const int g = base + r;
-    const int kind = g >= firstOfKind.w ? BTOCL_ROWS_JOINT
-                     : g >= firstOfKind.z ? BTOCL_ROWS_ROLLING
-                     : g >= firstOfKind.y ? BTOCL_ROWS_FRICTION
-                                          : BTOCL_ROWS_NORMAL;
     const int to = rowMap[g];
-    out[to] = btoclSolveRowOf(row, kind);
+    out[to] = btoclSolveRowOf(row, btoclKindOfRow(&regions, g));
     if (row.frictionIndex >= 0) normalOfRow[to] = rowMap[row.frictionIndex];
     applied[to] = BTOCL_ROW_APPLIED(row);
     pushApplied[to] = BTOCL_ROW_APPLIED_PUSH(row);
 }
 
-// The applied impulse of rows [0, n) in gather order, for the write-back to the manifold points.
+// The download: the applied impulses of rows [0, n), from solve order back to gather order, for
+// the write-back.
 __kernel void impulsesToGatherOrder(__global const float* applied, __global const int* rowMap, __global float* out,
                                     int n) {
     const int r = get_global_id(0);

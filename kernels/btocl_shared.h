@@ -36,8 +36,43 @@ static_assert(sizeof(int) == 4, "kernels' int is 32 bits");
 #define BTOCL_NUM_SETS 4
 #define BTOCL_OVERFLOW_SET 4
 
-// Kinds of rows. A constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
-enum { BTOCL_ROWS_JOINT, BTOCL_ROWS_NORMAL, BTOCL_ROWS_FRICTION, BTOCL_ROWS_ROLLING, BTOCL_NUM_ROW_KINDS };
+// Kinds of rows, in the order of their regions in gather order: [normal][friction][rolling][joint].
+// A constraint's rows of each kind are contiguous (btoclConstraint::firstRow).
+enum { BTOCL_ROWS_NORMAL, BTOCL_ROWS_FRICTION, BTOCL_ROWS_ROLLING, BTOCL_ROWS_JOINT, BTOCL_NUM_ROW_KINDS };
+
+// Where each kind's region starts in gather order, by BTOCL_ROWS_*; start[BTOCL_NUM_ROW_KINDS] is
+// the number of rows. Made by btoclRowRegionsOf alone: the one place that lays the regions out.
+typedef struct {
+    int start[BTOCL_NUM_ROW_KINDS + 1];
+    int pad0, pad1, pad2;
+} btoclRowRegions;
+
+BTOCL_INLINE btoclRowRegions btoclRowRegionsOf(int numNormal, int numFriction, int numRolling, int numJoint) {
+    btoclRowRegions r;
+    r.start[BTOCL_ROWS_NORMAL] = 0;
+    r.start[BTOCL_ROWS_FRICTION] = numNormal;
+    r.start[BTOCL_ROWS_ROLLING] = numNormal + numFriction;
+    r.start[BTOCL_ROWS_JOINT] = numNormal + numFriction + numRolling;
+    r.start[BTOCL_NUM_ROW_KINDS] = numNormal + numFriction + numRolling + numJoint;
+    r.pad0 = r.pad1 = r.pad2 = 0;
+    return r;
+}
+BTOCL_INLINE int btoclRegionRows(const btoclRowRegions* r, int kind) { return r->start[kind + 1] - r->start[kind]; }
+// The kind of the row at gather index `row`.
+BTOCL_INLINE int btoclKindOfRow(const btoclRowRegions* r, int row) {
+    int kind = BTOCL_ROWS_NORMAL;
+    for (int k = BTOCL_ROWS_FRICTION; k < BTOCL_NUM_ROW_KINDS; ++k)
+        if (row >= r->start[k]) kind = k;
+    return kind;
+}
+
+// In solve order the rows lie in two regions, one per half of a velocity iteration (each pass reads
+// one region front to back): every constraint's normal and joint rows, then every constraint's
+// friction and rolling rows (kernels/arrange.cl).
+BTOCL_INLINE int btoclInFrictionRegion(int kind) { return kind == BTOCL_ROWS_FRICTION || kind == BTOCL_ROWS_ROLLING; }
+BTOCL_INLINE int btoclFrictionRegionStart(const btoclRowRegions* r) {
+    return btoclRegionRows(r, BTOCL_ROWS_NORMAL) + btoclRegionRows(r, BTOCL_ROWS_JOINT);
+}
 
 // The passes of a step, each over all constraints, set after set:
 // warm start: the normal rows' starting impulses applied to the bodies;
@@ -237,6 +272,7 @@ static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
 static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");
 static_assert(sizeof(btoclSetupParams) == 4 * 16, "btoclSetupParams layout");
+static_assert(sizeof(btoclRowRegions) == 2 * 16, "btoclRowRegions layout");
 #endif
 
 #endif

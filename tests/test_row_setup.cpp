@@ -52,9 +52,9 @@ float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI&
 void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bullet,
                  const std::vector<btVector3>& siDir1, const std::vector<btVector3>& siDir2) {
     INFO(path << " setup");
-    REQUIRE(p.numNormalRows == bullet.normalRows().size());
-    REQUIRE(p.numFrictionRows == bullet.frictionRows().size());
-    REQUIRE(p.numRollingRows == bullet.rollingRows().size());
+    REQUIRE(p.numRowsOf(BTOCL_ROWS_NORMAL) == bullet.normalRows().size());
+    REQUIRE(p.numRowsOf(BTOCL_ROWS_FRICTION) == bullet.frictionRows().size());
+    REQUIRE(p.numRowsOf(BTOCL_ROWS_ROLLING) == bullet.rollingRows().size());
     // The same formulas in the same order; Bullet's vector code may associate a dot product
     // differently and the OpenCL compiler may fuse multiply-adds: the last bits only, so 1e-5
     // relative (absolute below 1).
@@ -71,17 +71,17 @@ void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bull
         }
     };
     check(bullet.normalRows(), 0, false);
-    check(bullet.frictionRows(), p.numNormalRows, true);
-    check(bullet.rollingRows(), p.numNormalRows + p.numFrictionRows, true);
-    for (int i = 0; i < p.numNormalRows; ++i)
-        if (p.points[size_t(i)].firstFrictionRow - p.numNormalRows != bullet.normalRows()[i].m_frictionIndex)
+    check(bullet.frictionRows(), p.numContactPoints(), true);
+    check(bullet.rollingRows(), p.rowStart(BTOCL_ROWS_ROLLING), true);
+    for (int i = 0; i < p.numContactPoints(); ++i)
+        if (p.points[size_t(i)].firstFrictionRow - p.numContactPoints() != bullet.normalRows()[i].m_frictionIndex)
             sameBodies = false;
     CHECK(sameBodies);
     INFO("worst relative row difference " << worst << " at row " << worstRow << " of " << p.numRows());
     CHECK(worst < 1e-5f);
 
     float worstDir = 0;
-    for (int i = 0; i < p.numNormalRows; ++i)
+    for (int i = 0; i < p.numContactPoints(); ++i)
         worstDir = std::max({worstDir, vectorGap(siDir1[size_t(i)], p.lateralDirs[2 * size_t(i)]),
                              vectorGap(siDir2[size_t(i)], p.lateralDirs[2 * size_t(i) + 1])});
     INFO("worst relative friction direction difference " << worstDir);

@@ -76,7 +76,7 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
     };
     int iterations = 0, numJointRows = 0;
     const int maxIterations = iterationsWithJoints(p, settings.numIterations, numJointRows);
-    if (p.numNormalRows > 0 || numJointRows > 0) {
+    if (p.numContactPoints() > 0 || numJointRows > 0) {
         if (settings.warmStart) pass(BTOCL_PASS_WARMSTART, 0);
         if (settings.usePush)
             for (int it = 0; it < settings.numIterations; ++it)
