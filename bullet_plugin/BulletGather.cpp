@@ -5,6 +5,7 @@
 #include "HostRowSetup.h"
 #include "InputChecks.h"
 #include "btOpenCLConstraintSolver.h"
+#include "row_setup.h"
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
@@ -104,6 +105,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.joints = JointRowSet{};
     p.regions = btoclRowRegionsOf(0, 0, 0, 0);
     p.mayNeedPush = false;
+    p.setupParams = setupParamsOf(info, 0);  // the point count once they are packed
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
@@ -300,10 +302,7 @@ void StepGatherer::packManifold(size_t m) {
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
         if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
-        // As btoclNormalRow decides (a share needs a penetration, and one past the threshold).
-        const btScalar penetration = cp.getDistance() + m_info.m_linearSlop;
-        if (m_info.m_splitImpulse && penetration < 0 && !(penetration > m_info.m_splitImpulsePenetrationThreshold))
-            slot.mayNeedPush = true;
+        if (btoclPointMayNeedPush(cp.getDistance(), &p.setupParams)) slot.mayNeedPush = true;
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
         pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());
@@ -397,7 +396,7 @@ StepProblem& StepGatherer::finish() {
     StepProblem& p = m_problem;
     p.rowsOnDevice = m_setup == RowSetup::Device;
     packManifolds();  // also sets up the rows on the host where a body has anisotropic friction
-    p.setupParams = setupParamsOf(m_info, int(p.points.size()));
+    p.setupParams.numPoints = int(p.points.size());
     if (!p.rowsOnDevice) setupRowsOnHost(p);
     if (!m_joints.empty()) addJointRows();
     return p;

@@ -70,16 +70,13 @@ DeviceLayout::BatchProgram& DeviceLayout::batchProgram(int wg) {
 }
 
 void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n,
-                          const std::vector<SplitBody>& bodies, const SplitParams& params,
-                          const LayoutOptions& options) {
-    if (params.batchIterations < 1)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+                          const std::vector<SplitBody>& bodies, const SplitParams& params, const StepPlan& plan) {
+    checkSplitParams(params);
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
-    if (options.setStartsOnDevice && options.localBatches)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: set starts on the device need a layout without local batches");
-    m_options = options;
+    m_localBatches = plan.localBatches();
+    m_setStartsOnDevice = plan.setStartsOnDevice();
     m_n = n;
     m_summaryPending = false;
     m_setGroupStart.fill(0);
@@ -90,12 +87,12 @@ void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n
     m_rt.beginPhase(DevicePhase::Split);
     for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(m_rt, size_t(n));
     m_groups.reserve(m_rt, size_t(std::min(n, BTOCL_SPLIT_NUM_KEYS)));
-    if (options.oneGroup)
+    if (plan.oneGroup())
         layOutOneGroup(n);
     else
         split(constraints, n, bodies, params);
     m_stats.numConstraints = n;
-    if (!options.localBatches) return;  // the split (or the one group) wrote one run per group
+    if (!m_localBatches) return;  // the split (or the one group) wrote one run per group
     m_rt.beginPhase(DevicePhase::Batch);
     BatchProgram& batch = batchProgram(params.workGroupSize);
     setArgs(batch.kernel, constraints.buffer(), m_sorted.buffer(), m_groups.buffer(), params.batchIterations,
@@ -111,12 +108,12 @@ void DeviceLayout::layOutOneGroup(int n) {
     m_identityHost.resize(size_t(n));
     for (int i = 0; i < n; ++i) m_identityHost[size_t(i)] = i;
     m_sorted.enqueueWrite(m_rt, m_identityHost);
-    m_oneGroupHost = btoclGroup{0, n, m_options.localBatches ? 0 : 1, 0};
+    m_oneGroupHost = btoclGroup{0, n, m_localBatches ? 0 : 1, 0};
     m_groups.enqueueWrite(m_rt, &m_oneGroupHost, 1);
-    if (!m_options.localBatches) m_batchEnd.fill(m_rt, n, 1);
+    if (!m_localBatches) m_batchEnd.fill(m_rt, n, 1);
     m_setGroupStart.fill(1);
     m_setGroupStart[0] = 0;
-    if (m_options.setStartsOnDevice) {
+    if (m_setStartsOnDevice) {
         std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
         m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
     }
@@ -173,13 +170,13 @@ void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n
     m_rt.launch(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
     setArgs(m_splitWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
-            m_groups.buffer(), m_options.localBatches ? 0 : 1, m_batchEnd.buffer());
+            m_groups.buffer(), m_localBatches ? 0 : 1, m_batchEnd.buffer());
     m_rt.launch(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitWriteGroups");
     setArgs(m_splitWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
             m_summary.buffer());
     m_rt.launch(m_splitWriteSummary, 1, 0, "enqueueing splitWriteSummary");
 
-    if (m_options.setStartsOnDevice) {  // read with the step's last wait
+    if (m_setStartsOnDevice) {  // read with the step's last wait
         m_summary.enqueueRead(rt, m_summaryHost.data(), kSummaryInts);
         m_summaryPending = true;
         return;
@@ -213,7 +210,7 @@ BatchLayout DeviceLayout::download() const {
     layout.setGroupStart = setGroupStart();
     layout.cellSize = m_stats.cellSize;
     layout.numOverflowConstraints = m_stats.numOverflowConstraints;
-    layout.serialRuns = !m_options.localBatches;
+    layout.serialRuns = !m_localBatches;
     return layout;
 }
 

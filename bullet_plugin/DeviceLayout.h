@@ -8,6 +8,7 @@
 #include "DevicePrimitives.h"
 #include "OclRuntime.h"
 #include "SplitPlan.h"
+#include "StepPlan.h"
 #include "split_grid.h"
 
 #include <array>
@@ -15,21 +16,6 @@
 #include <vector>
 
 namespace btocl {
-
-// How a step's constraints are laid out for the solve.
-struct LayoutOptions {
-    // A small step: every constraint in one group (set 0), no global split; the solve then runs
-    // the whole step in one launch of one work-group.
-    bool oneGroup = false;
-    // Wide path: local batches of independent constraints per group. Serial path: none; a group
-    // is one run that one work-item walks in order (numBatches 1).
-    bool localBatches = true;
-    // The solve reads the set starts on the device (setGroupStartBuffer()): the split's summary is
-    // read back without a wait of its own, with the step's last wait, and setGroupStart(),
-    // numGroups() and stats() are valid only after it. Without local batches only (the batch
-    // kernel's launch needs the number of groups).
-    bool setStartsOnDevice = false;
-};
 
 struct DeviceLayoutStats {
     int numConstraints = 0;
@@ -46,18 +32,19 @@ public:
     // and scan) must outlive this object.
     DeviceLayout(const OclRuntime& rt, DevicePrimitives& primitives);
 
-    // Splits and batches constraints [0, n) that are already on the device. Enqueues everything on
-    // rt.queue(); the one blocking read is 8 ints after the split (set starts, overflow count, cell
-    // edge), needed to size the launches over groups (none with options.setStartsOnDevice, none
-    // for a one-group layout). The split's
-    // commands are timed as DevicePhase::Split, the batch kernel's as DevicePhase::Batch.
-    // bodies: one entry per body index the constraints use. Throws btOpenCLSolverError on bad
-    // parameters or a device error.
+    // Lays constraints [0, n), already on the device, out as `plan` says: one group (a whole step)
+    // or the global split's groups, and each group as local batches or as one run. Enqueues
+    // everything on rt.queue(); the one blocking read is 8 ints after the split (set starts,
+    // overflow count, cell edge), needed to size the launches over groups (none where the plan
+    // reads the set starts on the device, none for one group): then setGroupStart(), numGroups()
+    // and stats() are valid only once the queue has finished. The split's commands are timed as
+    // DevicePhase::Split, the batch kernel's as DevicePhase::Batch. bodies: one entry per body
+    // index the constraints use. Throws btOpenCLSolverError on bad parameters or a device error.
     void build(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
-               const SplitParams& params, const LayoutOptions& options = {});
+               const SplitParams& params, const StepPlan& plan);
 
     // The layout of the last build, on the device (valid until the next build).
-    const DeviceBuffer<int>& solveOrder() const { return m_options.localBatches ? m_solveOrder : m_sorted; }
+    const DeviceBuffer<int>& solveOrder() const { return m_localBatches ? m_solveOrder : m_sorted; }
     const DeviceBuffer<int>& batchEnd() const { return m_batchEnd; }
     const DeviceBuffer<btoclGroup>& groups() const { return m_groups; }
     const std::array<int, BTOCL_NUM_SETS + 2>& setGroupStart() const;
@@ -90,7 +77,7 @@ private:
     const OclRuntime& m_rt;
     cl::Program m_splitProgram;
     DevicePrimitives& m_prims;  // the stable sort by cell key and the scan over key bins
-    LayoutOptions m_options;
+    bool m_localBatches = false, m_setStartsOnDevice = false;  // the plan of the last build
     cl::Kernel m_splitBounds, m_splitGridSetup, m_splitKeys, m_splitClearBins, m_splitMarkBins, m_splitBinFlags, m_splitWriteGroups,
         m_splitWriteSummary;
     std::map<int, BatchProgram> m_batchPrograms;

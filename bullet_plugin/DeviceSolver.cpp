@@ -7,8 +7,8 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 }  // namespace
 
-DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup)
-    : m_rt(runtime), m_lanes(lanesPerGroup), m_primitives(primitives) {
+DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives)
+    : m_rt(runtime), m_primitives(primitives) {
     // A CPU's compiler is asked for software prefetch of scattered records (btocl_shared.h:
     // BTOCL_PREFETCHES): bodies in the solve and setup, constraints and impulses in the arrangement.
     const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "";
@@ -30,7 +30,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
-// step is written back, and m_controlStart is a member.
+// step is written back.
 void DeviceSolver::upload(const StepProblem& p) {
     m_bodies.enqueueUpload(m_rt, p.bodies);
     // Every body starts the step with no change: the gather's zeros, handed over in place where
@@ -40,10 +40,7 @@ void DeviceSolver::upload(const StepProblem& p) {
     else
         m_deltas.fill(m_rt, btoclBodyDelta{}, p.deltas.size());
     m_constraints.enqueueWrite(m_rt, p.constraints);
-    m_controlStart.assign(BTOCL_CONTROL_SIZE, 0);
-    for (const btoclRow& r : p.rows)  // the setup kernel flags the rows it sets up
-            if (BTOCL_ROW_RHS_PENETRATION(r) != 0) m_controlStart[BTOCL_CONTROL_HAS_PUSH] = 1;
-    m_control.enqueueWrite(m_rt, m_controlStart);
+    m_control.fill(m_rt, 0, BTOCL_CONTROL_SIZE);
     if (p.rowsOnDevice) m_points.enqueueUpload(m_rt, p.points);
     m_hostRows.enqueueWrite(m_rt, p.rows);
 }
@@ -93,79 +90,72 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
     p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
     m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
     setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(),
-            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(),
-            m_control.buffer(), p.setupParams);
+            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams);
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& s, int iteration) {
-    cl::Kernel& k = m_passKernels[size_t(pass)];
+void DeviceSolver::launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
+                              const SolveSettings& s) {
+    cl::Kernel& k = m_passKernels[size_t(pass.pass)];
+    const size_t lanes = size_t(plan.lanesPerGroup());
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
         setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(),
                 m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(),
-                s.flags, iteration, s.numIterations);
-        m_rt.launch(k, size_t(count) * size_t(m_lanes), size_t(m_lanes), "launching a solve pass");
+                s.flags, pass.iteration, plan.passes().numIterations);
+        m_rt.launch(k, size_t(count) * lanes, lanes, "launching a solve pass");
     }
 }
 
-void DeviceSolver::launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& s) {
+// A launch per set and pass; with a residual threshold, a kernel after each iteration stops the
+// rest of its kind on the device once it has converged (endIteration).
+void DeviceSolver::launchPerSet(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& s) {
+    const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    const int numPasses = btoclPassCount(plan.passes());
+    for (int i = 0; i < numPasses; ++i) {
+        const btoclPassStep pass = btoclPassAt(plan.passes(), i);
+        launchPass(plan, layout, pass, s);
+        if (!track || !pass.endsIteration) continue;
+        setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, pass.pass == BTOCL_PASS_PUSH ? 1 : 0);
+        m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
+    }
+}
+
+void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& s) {
     setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
             m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(),
-            m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, s.numIterations, s.maxIterations, s.residualThreshold,
-            s.warmStart ? 1 : 0, s.usePush ? 1 : 0);
-    m_rt.launch(m_wholeStep, size_t(m_lanes), size_t(m_lanes), "launching solveWholeStep");
+            m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, s.residualThreshold, plan.passes());
+    const size_t lanes = size_t(plan.lanesPerGroup());
+    m_rt.launch(m_wholeStep, lanes, lanes, "launching solveWholeStep");
 }
 
 // One single-lane work-group per compute unit: the device runs them side by side (more would
-// wait for a free unit and buy nothing; fewer would leave units idle). Serial path only: a
-// group's batches are walked by one lane. The progress block is cleared on the device, in order
-// before the launch.
-void DeviceSolver::launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
-    const int pushIterations = s.usePush && p.mayNeedPush ? s.numIterations : 0;
-    const int numPasses = btoclPassesOfStep(s.warmStart ? 1 : 0, pushIterations, s.numIterations, s.maxIterations);
+// wait for a free unit and buy nothing; fewer would leave units idle). The progress block is
+// cleared on the device, in order before the launch.
+void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
+                                 const SolveSettings& s) {
+    const btoclPassSchedule& passes = plan.passes();
     const int workGroups = int(m_rt.computeUnits());
-    m_progress.fill(m_rt, 0, size_t(btoclProgressSize(workGroups, numPasses, pushIterations, s.maxIterations)));
+    m_progress.fill(m_rt, 0,
+                    size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations)));
     setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),
             m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
-            m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.numIterations, s.maxIterations,
-            s.residualThreshold, s.warmStart ? 1 : 0, pushIterations);
+            m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.residualThreshold, passes);
     m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
 }
 
-void DeviceSolver::iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& s) {
+void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
+                           const SolveSettings& s) {
     if (p.constraints.empty()) return;
-    if (layout.launch == SolveLaunch::WholeStep) {
-        launchWholeStep(layout, s);
-        return;
-    }
-    if (layout.launch == SolveLaunch::Claimed) {
-        if (m_lanes != 1) throw btOpenCLSolverError("btOpenCLConstraintSolver: the claimed launch runs one lane a group");
-        launchClaimed(p, layout, s);
-        return;
-    }
-    if (s.warmStart) launchPass(layout, BTOCL_PASS_WARMSTART, s, 0);
-    const bool track = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    auto endIteration = [&](int split) {
-        if (!track) return;
-        setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, split);
-        m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
-    };
-    if (s.usePush && p.mayNeedPush)
-        for (int it = 0; it < s.numIterations; ++it) {
-            launchPass(layout, BTOCL_PASS_PUSH, s, it);
-            endIteration(1);
-        }
-    for (int it = 0; it < s.maxIterations; ++it) {
-        launchPass(layout, BTOCL_PASS_NORMAL, s, it);
-        // Past m_numIterations only joints with a larger override count are solved.
-        if (it < s.numIterations) launchPass(layout, BTOCL_PASS_FRICTION, s, it);
-        endIteration(0);
+    switch (plan.mode()) {
+        case StepMode::WholeStep: return launchWholeStep(plan, layout, s);
+        case StepMode::PerSet: return launchPerSet(plan, layout, s);
+        case StepMode::Claimed: return launchClaimed(p, plan, layout, s);
     }
 }
 
-int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
+int DeviceSolver::download(StepProblem& p, const StepPlan& plan, const SolveSettings& s) {
     // Every copy enqueued, then one wait.
     m_deltas.enqueueDownload(m_rt, p.deltas);
     const int n = p.numRows();
@@ -180,7 +170,7 @@ int DeviceSolver::download(StepProblem& p, const SolveSettings& s) {
         p.lateralDirs.resize(2 * p.points.size());  // as arrange sized them (none where it set no row up)
         m_lateralDirs.enqueueDownload(m_rt, p.lateralDirs);
     }
-    int iterations = p.constraints.empty() ? 0 : s.maxIterations;
+    int iterations = p.constraints.empty() ? 0 : plan.passes().maxIterations;
     const bool counted = (s.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0 && !p.constraints.empty();
     if (counted) m_control.enqueueRead(m_rt, m_controlEnd.data(), m_controlEnd.size());
     m_rt.finish("reading the results back");

@@ -8,18 +8,12 @@
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "SolveSettings.h"
+#include "StepPlan.h"
 #include "StepProblem.h"
 
 #include <array>
 
 namespace btocl {
-
-// How the iterations are launched (DeviceSolver::iterate).
-enum class SolveLaunch {
-    PerSet,     // one launch per set and pass: the groups of a set side by side
-    WholeStep,  // one launch of one work-group: every group of every pass in turn
-    Claimed,    // serial path: one launch of a lane per compute unit, claiming each set's groups in turn
-};
 
 // Where the solve finds the split/batch layout: the device batcher's buffers or uploaded ones.
 struct DeviceLayoutView {
@@ -28,14 +22,12 @@ struct DeviceLayoutView {
     const cl::Buffer* batchEnd = nullptr;
     std::array<int, BTOCL_NUM_SETS + 2> setGroupStart{};  // per-set and whole-step launches
     const cl::Buffer* setGroupStartOnDevice = nullptr;    // the same on the device: claimed launches
-    SolveLaunch launch = SolveLaunch::PerSet;
 };
 
 class DeviceSolver {
 public:
-    // lanesPerGroup: 1 on the serial path, the work-group size on the wide path. `runtime` and
-    // `primitives` (the scan) must outlive this object.
-    DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives, int lanesPerGroup);
+    // `runtime` and `primitives` (the scan) must outlive this object.
+    DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives);
 
     // Hands bodies, deltas, constraints and contact points (or host-built rows) to the device
     // (bodies, points and deltas in place where it works in the host's memory). p.deltas must
@@ -46,11 +38,11 @@ public:
     // Places constraints and rows in the layout's solve order and sets the rows up there
     // (kernels/arrange.cl, kernels/setup.cl).
     void arrange(StepProblem& p, const DeviceLayoutView& layout);
-    // Enqueues the warm start and every push and velocity iteration.
-    void iterate(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
+    // Enqueues the plan's passes, launched as its mode says.
+    void iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
-    int download(StepProblem& p, const SolveSettings& settings);
+    int download(StepProblem& p, const StepPlan& plan, const SolveSettings& settings);
     // The rows as they are on the device, in gather order, in the full record (tests compare them
     // with SI's): B's linear Jacobian the negative of A's, zero on a side without a rigid body.
     std::vector<btoclRow> downloadRows(const StepProblem& p) const;
@@ -58,12 +50,14 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
-    void launchPass(const DeviceLayoutView& layout, int pass, const SolveSettings& settings, int iteration);
-    void launchWholeStep(const DeviceLayoutView& layout, const SolveSettings& settings);
-    void launchClaimed(const StepProblem& p, const DeviceLayoutView& layout, const SolveSettings& settings);
+    void launchPerSet(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
+    void launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
+                    const SolveSettings& settings);
+    void launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
+    void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
+                       const SolveSettings& settings);
 
     const OclRuntime& m_rt;
-    int m_lanes;
     DevicePrimitives& m_primitives;
     cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
@@ -81,8 +75,7 @@ private:
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     DeviceBuffer<int> m_progress;  // solveStepClaimed's finished counts, residuals and claim counters
-    std::vector<int> m_controlStart;                            // the control block as uploaded
-    std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};         // ... and as read back
+    std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};  // the control block as read back
 };
 
 }  // namespace btocl

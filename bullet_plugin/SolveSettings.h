@@ -8,17 +8,16 @@
 namespace btocl {
 
 struct SolveSettings {
-    int numIterations = 10;      // m_numIterations: contact rows take part in these
-    int maxIterations = 10;      // velocity iterations run: more when a joint's override asks
+    int numIterations = 10;      // m_numIterations (the velocity iterations: passScheduleOf, StepPlan.h)
     int flags = 0;               // BTOCL_FLAG_*
     float residualThreshold = 0;
-    bool usePush = false;
+    bool usePush = false;        // m_splitImpulse
     bool warmStart = false;      // apply the rows' starting impulses before the iterations
 
     // rotatePoints: each iteration starts a manifold's points at another one (btOpenCLSolverConfig).
     static SolveSettings from(const btContactSolverInfo& info, bool rotatePoints) {
         SolveSettings s;
-        s.numIterations = s.maxIterations = info.m_numIterations;
+        s.numIterations = info.m_numIterations;
         s.residualThreshold = info.m_leastSquaresResidualThreshold;
         s.usePush = info.m_splitImpulse != 0;
         s.warmStart = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;

@@ -18,11 +18,17 @@ float contactSpan(float extent, const SplitParams& params) { return extent * kRe
 
 }  // namespace
 
+void checkSplitParams(const SplitParams& params) {
+    if (!(params.cellSize >= 0) || !std::isfinite(params.cellSize))
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive finite length");
+    if (params.batchIterations < 1)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+}
+
 SplitBodiesPlan planSplitBodies(const std::vector<SplitBody>& bodies, const SplitParams& params) {
+    checkSplitParams(params);
     SplitBodiesPlan plan;
     plan.overflowBody.assign(bodies.size(), 0);
-    if (params.cellSize < 0 || !std::isfinite(params.cellSize))
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive finite length");
     if (params.cellSize > 0) {
         plan.baseCellSize = params.cellSize;
         for (size_t i = 0; i < bodies.size(); ++i)

@@ -15,6 +15,11 @@ struct SplitParams {
     float contactMargin = 0.05f;
 };
 
+// Throws btOpenCLSolverError for a cell edge that is negative or not finite, or fewer than one
+// locking round: the one check of these settings, made by the solver at construction and by each
+// layout builder (DeviceLayout, the host references) before it uses them.
+void checkSplitParams(const SplitParams& params);
+
 // Per body, what the split needs: the largest edge of its AABB (0 for static/kinematic bodies).
 struct SplitBody {
     float extent = 0;

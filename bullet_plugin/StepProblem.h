@@ -41,8 +41,8 @@ struct StepProblem {
     HostArray<btoclContactPoint> points;
     std::vector<btManifoldPoint*> manifoldPoints;  // the btManifoldPoint of each point
     btoclSetupParams setupParams{};
-    // Some point may give its normal row a push share (split impulse on and a penetration
-    // deeper than m_splitImpulsePenetrationThreshold): the push iterations then run.
+    // Some point may give its normal row a push share (btoclPointMayNeedPush): the push
+    // iterations then run (passScheduleOf, StepPlan.h).
     bool mayNeedPush = false;
     // ... unless rowsOnDevice is false: then the host set them up (HostRowSetup.h). `rows` holds
     // the rows set up on the host, in gather order from row hostRowBase() on: every row then, or

@@ -9,6 +9,7 @@
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
 #include "SolveSettings.h"
+#include "StepPolicy.h"
 #include "BulletFallback.h"
 #include "BulletGather.h"
 #include "StepWriteBack.h"
@@ -41,62 +42,19 @@ private:
     Clock::time_point m_start = Clock::now(), m_last = m_start;
 };
 
-// When a step runs whole in one launch of one work-group (no global split, no sets): when the
-// split and the sets' groups solved side by side would save less than they cost.
-// - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
-// - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
-//   units in one claimed launch (solveStepClaimed). Measured on PoCL (2 cores; btocl_bench
-//   --whole-step-max-rows 0 against whole, ms a step, same runs of SI): pile 1,000 (8K rows) 3.55
-//   / 2.49, pile 2,500 (20K rows) 8.2 / 7.6, block 800 (35K rows) 6.7 / 7.2, block 1,500 11.4 /
-//   13.3, columns 12,000 (97K rows) 18.7 / 24.1. The crossover, about 30K rows on 2 units, falls
-//   as units are added (the split saves a larger share): rows at most 16K x units / (units - 1),
-//   without limit on one unit.
-constexpr int kWholeStepMaxConstraintsWide = 1024;
-constexpr double kWholeStepRowsPerUnitShare = 16384;
-
-double wholeStepMaxRowsSerial(const btocl::OclRuntime& runtime) {
-    const double units = double(runtime.computeUnits());
-    if (units <= 1) return std::numeric_limits<double>::infinity();
-    return kWholeStepRowsPerUnitShare * units / (units - 1);
-}
-
-// The path asked for, or BT_OPENCL_SOLVE_PATH's, or the device type's.
-btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const btocl::OclRuntime& runtime) {
-    if (asked != btOpenCLSolvePath::Auto) return asked;
-    if (const char* env = std::getenv("BT_OPENCL_SOLVE_PATH"); env && *env) {
-        const std::string value = env;
-        if (value == "serial") return btOpenCLSolvePath::Serial;
-        if (value == "wide") return btOpenCLSolvePath::Wide;
-        if (value != "auto")
-            throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SOLVE_PATH is '" + value +
-                                      "'; it takes auto, serial or wide");
-    }
-    return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
-}
-
-// The sort and scan of the split. Serial path: our chunked kernels. Wide path: on a GPU the
-// faster of the two there, measured (DevicePrimitives::fasterBackend); on a CPU device, which
-// runs the wide path for the tests, Boost.Compute's, so that they cover what a GPU may get.
-btocl::DevicePrimitives::Backend primitivesFor(btOpenCLSolvePath path, const btocl::OclRuntime& runtime) {
-    using Backend = btocl::DevicePrimitives::Backend;
-    if (path == btOpenCLSolvePath::Serial) return Backend::Chunked;
-    return runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
-}
-
 }  // namespace
 
 struct btOpenCLConstraintSolver::Impl {
     explicit Impl(const btOpenCLSolverConfig& c)
         : config(checked(c)),
           runtime(c.device),
-          path(resolveSolvePath(c.solvePath, runtime)),
+          plan(btocl::planSolver(config, runtime)),
           // A device with memory of its own copies the step's arrays by DMA from pinned memory.
           pinned(runtime.hostUnifiedMemory() ? nullptr : std::make_unique<btocl::PinnedHostMemory>(runtime)),
-          primitives(runtime, primitivesFor(path, runtime)),
+          primitives(runtime, plan.sortAndScan),
           limits(btocl::deviceLimitsOf(runtime)),
-          device(runtime, primitives, wide() ? c.workGroupSize : 1),
-          autoWholeStepMaxRows(wholeStepMaxRowsSerial(runtime)),
-          batcher(runtime, primitives),
+          solve(runtime, primitives),
+          layout(runtime, primitives),
           fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {
         gatherer.useHostMemory(pinned.get());
     }
@@ -107,25 +65,30 @@ struct btOpenCLConstraintSolver::Impl {
         if (c.workGroupSize < 1 || c.workGroupSize > 1024 || (c.workGroupSize & (c.workGroupSize - 1)))
             throw btOpenCLSolverError("btOpenCLConstraintSolver: workGroupSize must be a power of two in 1..1024, not " +
                                       std::to_string(c.workGroupSize));
-        if (c.batchIterations < 1)
-            throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
-        if (!(c.cellSize >= 0) || !std::isfinite(c.cellSize))
-            throw btOpenCLSolverError("btOpenCLConstraintSolver: cellSize must be 0 (automatic) or a positive length");
+        btocl::checkSplitParams(splitParamsOf(c));
         if (c.wholeStepMaxRows < -1)
             throw btOpenCLSolverError("btOpenCLConstraintSolver: wholeStepMaxRows must be -1 (automatic), 0 (never) or a "
                                       "row count, not " + std::to_string(c.wholeStepMaxRows));
         return c;
     }
 
+    static btocl::SplitParams splitParamsOf(const btOpenCLSolverConfig& c) {
+        btocl::SplitParams params;
+        params.cellSize = float(c.cellSize);
+        params.batchIterations = c.batchIterations;
+        params.workGroupSize = c.workGroupSize;
+        return params;
+    }
+
+    // Members in the order they are made: each reads those above it.
     btOpenCLSolverConfig config;
     btocl::OclRuntime runtime;
-    btOpenCLSolvePath path;
+    btocl::SolverPlan plan;
     std::unique_ptr<btocl::PinnedHostMemory> pinned;  // null on a device on the host's memory
     btocl::DevicePrimitives primitives;
     btocl::DeviceLimits limits;
-    btocl::DeviceSolver device;
-    double autoWholeStepMaxRows;  // serial path, wholeStepMaxRows -1
-    btocl::DeviceLayout batcher;
+    btocl::DeviceSolver solve;
+    btocl::DeviceLayout layout;
     btocl::StepGatherer gatherer;
     std::unique_ptr<btocl::SequentialFallback> fallback;  // with fallbackToBullet
     btOpenCLSolverStats stats;
@@ -177,18 +140,6 @@ struct btOpenCLConstraintSolver::Impl {
         msGatherCalls += msSince(t0);
     }
 
-    bool wide() const { return path == btOpenCLSolvePath::Wide; }
-    // A split step on the serial path runs in one launch of a lane per compute unit (the per-set
-    // launches, about a hundred a step, cost PoCL some 40 us each); the wide path keeps one
-    // launch per set and pass until it is measured on a GPU.
-    btocl::SolveLaunch splitLaunch() const {
-        return wide() ? btocl::SolveLaunch::PerSet : btocl::SolveLaunch::Claimed;
-    }
-    bool solveWhole(const btocl::StepProblem& p) const {
-        if (config.wholeStepMaxRows >= 0) return p.numRows() <= config.wholeStepMaxRows;
-        return wide() ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide : double(p.numRows()) <= autoWholeStepMaxRows;
-    }
-
     void run() {
         if (!gathering) return;
         StageTimer timer;
@@ -196,8 +147,8 @@ struct btOpenCLConstraintSolver::Impl {
         try {
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
-            btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.rotatePoints);
-            settings.maxIterations = p.maxIterations(settings.numIterations);
+            const btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.rotatePoints);
+            const btocl::StepPlan step = btocl::planStep(plan, p, settings);
             s.msGather = msGatherCalls + timer.lap();
             btocl::checkStepFitsDevice(btocl::countsOf(p), limits);  // before the first enqueue
 
@@ -206,45 +157,34 @@ struct btOpenCLConstraintSolver::Impl {
             runtime.clearPhases();
             // Serial path: the step's commands enqueued whole before PoCL starts them (OclRuntime.h);
             // the wide path's sort and scan (Boost.Compute) may wait on the queue themselves.
-            if (!wide()) runtime.holdQueue();
+            if (!plan.wide()) runtime.holdQueue();
             runtime.beginPhase(btocl::DevicePhase::Upload);
-            device.upload(p);
-
-            // Global split and local batches on the device, from the constraints just uploaded.
-            btocl::SplitParams params;
-            params.cellSize = float(config.cellSize);
-            params.batchIterations = config.batchIterations;
-            params.workGroupSize = config.workGroupSize;
-            btocl::LayoutOptions layout;
-            layout.oneGroup = solveWhole(p);
-            layout.localBatches = wide();
+            solve.upload(p);
+            // The global split and local batches on the device, from the constraints just uploaded.
+            layout.build(solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(config), step);
             btocl::DeviceLayoutView view;
-            view.launch = layout.oneGroup ? btocl::SolveLaunch::WholeStep : splitLaunch();
-            // The claimed launch reads the set starts on the device: no wait for the split.
-            layout.setStartsOnDevice = view.launch == btocl::SolveLaunch::Claimed;
-            batcher.build(device.constraints(), int(p.constraints.size()), p.splitBodies, params, layout);
-            view.groups = &batcher.groups().buffer();
-            view.solveOrder = &batcher.solveOrder().buffer();
-            view.batchEnd = &batcher.batchEnd().buffer();
-            view.setGroupStartOnDevice = &batcher.setGroupStartBuffer().buffer();
-            if (!layout.setStartsOnDevice) view.setGroupStart = batcher.setGroupStart();
+            view.groups = &layout.groups().buffer();
+            view.solveOrder = &layout.solveOrder().buffer();
+            view.batchEnd = &layout.batchEnd().buffer();
+            view.setGroupStartOnDevice = &layout.setGroupStartBuffer().buffer();
+            if (!step.setStartsOnDevice()) view.setGroupStart = layout.setGroupStart();
             if (config.validate) {
                 runtime.endPhases();  // the validation's read-back is not a part of the step
-                const std::string failure = btocl::validateBatchLayout(batcher.download(), p.constraints);
+                const std::string failure = btocl::validateBatchLayout(layout.download(), p.constraints);
                 if (!failure.empty()) {
                     s.validationFailures += 1;
                     s.lastValidationMessage = failure;
                 }
             }
             runtime.beginPhase(btocl::DevicePhase::Setup);
-            device.arrange(p, view);
+            solve.arrange(p, view);
             runtime.beginPhase(btocl::DevicePhase::Solve);
-            device.iterate(p, view, settings);
+            solve.iterate(p, step, view, settings);
             runtime.beginPhase(btocl::DevicePhase::Download);
-            s.numIterationsRun = device.download(p, settings);  // the one wait
+            s.numIterationsRun = solve.download(p, step, settings);  // the one wait
             runtime.endPhases();
             s.msDevice = timer.lap();
-            fillDeviceStats(s, p, layout.oneGroup);
+            fillDeviceStats(s, p, step.oneGroup());
 
             btocl::writeBackStep(p, info);
             s.msWriteback = timer.lap();
@@ -276,9 +216,9 @@ struct btOpenCLConstraintSolver::Impl {
         s.msSetup = runtime.phaseMs(btocl::DevicePhase::Setup);
         s.msSolve = runtime.phaseMs(btocl::DevicePhase::Solve);
         s.msDownload = runtime.phaseMs(btocl::DevicePhase::Download);
-        const btocl::DeviceLayoutStats& batchStats = batcher.stats();
+        const btocl::DeviceLayoutStats& batchStats = layout.stats();
         s.numCellGroups = batchStats.numCellGroups;
-        s.numGroups = batcher.numGroups();
+        s.numGroups = layout.numGroups();
         s.solvedWholeStep = wholeStep && !p.constraints.empty();
         s.numBatchesMax = batchStats.numBatchesMax;
         s.numBatchesMean = batchStats.numBatchesMean;
@@ -337,6 +277,6 @@ btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return 
 const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { return m_impl->stats; }
 std::string btOpenCLConstraintSolver::getDeviceName() const { return m_impl->runtime.deviceName(); }
 const btOpenCLSolverConfig& btOpenCLConstraintSolver::getConfig() const { return m_impl->config; }
-btOpenCLSolvePath btOpenCLConstraintSolver::getSolvePath() const { return m_impl->path; }
+btOpenCLSolvePath btOpenCLConstraintSolver::getSolvePath() const { return m_impl->plan.path; }
 
 const char* btOpenCLConstraintSolver::getSortAndScanName() const { return m_impl->primitives.backendName(); }

@@ -79,8 +79,68 @@ BTOCL_INLINE int btoclFrictionRegionStart(const btoclRowRegions* r) {
 // push: the normal rows on push and turn velocities (Bullet's split impulse), once per iteration;
 // normal and friction: the two halves of a velocity iteration, in SI's order of kinds: every
 // constraint's joint and normal rows, then every constraint's friction and rolling rows (a
-// constraint's friction right after its own normal rows lets resting stacks creep; README).
+// constraint's friction right after its own normal rows lets resting stacks creep;
+// README).
 enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_NUM_PASSES };
+
+// The order of a step's passes, written once here and walked by every launch mode and by the host
+// reference: the warm start (when asked), the push iterations, then the velocity iterations, each
+// a normal and a friction pass while iteration < numIterations and a normal pass alone past it
+// (for joints that ask for more iterations than the contacts get). Made by passScheduleOf
+// (bullet_plugin/StepPlan.h).
+typedef struct {
+    int warmStart;       // 1: a warm start pass first
+    int pushIterations;  // 0 where no contact point may get a push share
+    int numIterations;   // m_numIterations: contact rows take part in these
+    int maxIterations;   // velocity iterations: numIterations, or more where a joint asks
+} btoclPassSchedule;
+
+// One pass of the schedule.
+typedef struct {
+    int pass;           // BTOCL_PASS_*
+    int iteration;      // of its push or velocity iterations, from 0
+    int residual;       // its iteration's residual among the step's (push iterations first); -1: warm start
+    int endsIteration;  // the last pass of its iteration: its residual is whole after it
+} btoclPassStep;
+
+BTOCL_INLINE int btoclVelocityIterationsWithFriction(btoclPassSchedule s) {
+    return s.numIterations < s.maxIterations ? s.numIterations : s.maxIterations;
+}
+BTOCL_INLINE int btoclFirstVelocityPass(btoclPassSchedule s) { return s.warmStart + s.pushIterations; }
+BTOCL_INLINE int btoclPassCount(btoclPassSchedule s) {
+    const int withFriction = btoclVelocityIterationsWithFriction(s);
+    return btoclFirstVelocityPass(s) + 2 * withFriction + (s.maxIterations - withFriction);
+}
+BTOCL_INLINE btoclPassStep btoclPassAt(btoclPassSchedule s, int index) {
+    btoclPassStep p;
+    p.endsIteration = 1;
+    if (index < s.warmStart) {
+        p.pass = BTOCL_PASS_WARMSTART;
+        p.iteration = 0;
+        p.residual = -1;
+        p.endsIteration = 0;
+        return p;
+    }
+    index -= s.warmStart;
+    if (index < s.pushIterations) {
+        p.pass = BTOCL_PASS_PUSH;
+        p.iteration = index;
+        p.residual = index;
+        return p;
+    }
+    index -= s.pushIterations;
+    const int withFriction = btoclVelocityIterationsWithFriction(s);
+    if (index < 2 * withFriction) {
+        p.iteration = index / 2;
+        p.pass = (index & 1) ? BTOCL_PASS_FRICTION : BTOCL_PASS_NORMAL;
+        p.endsIteration = index & 1;
+    } else {
+        p.iteration = index - withFriction;  // past the 2 * withFriction passes of both halves
+        p.pass = BTOCL_PASS_NORMAL;
+    }
+    p.residual = s.pushIterations + p.iteration;
+    return p;
+}
 
 // Flags of the solve kernels (SolveSettings::flags).
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
@@ -104,7 +164,6 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRIC
 #define BTOCL_CONTROL_ITERATIONS 2      // velocity iterations run
 #define BTOCL_CONTROL_PUSH_STOPPED 3   // push iterations converged
 #define BTOCL_CONTROL_PUSH_RESIDUAL 4
-#define BTOCL_CONTROL_HAS_PUSH 5  // some row has a push share (rhsPenetration != 0)
 #define BTOCL_CONTROL_SIZE 8
 
 // The progress buffer of solveStepClaimed (kernels/solve.cl), all zero at the launch, in ints:
@@ -112,10 +171,6 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRIC
 // the others while they wait); one squared residual per iteration (float bits), the split-
 // impulse iterations first; then each work-group's claim counters, one per pass and set.
 #define BTOCL_PROGRESS_LINE 16
-BTOCL_INLINE int btoclPassesOfStep(int warmStart, int pushIterations, int numIterations, int maxIterations) {
-    const int withFriction = numIterations < maxIterations ? numIterations : maxIterations;
-    return warmStart + pushIterations + 2 * withFriction + (maxIterations - withFriction);
-}
 BTOCL_INLINE int btoclRoundToLine(int n) { return (n + BTOCL_PROGRESS_LINE - 1) / BTOCL_PROGRESS_LINE * BTOCL_PROGRESS_LINE; }
 BTOCL_INLINE int btoclProgressResiduals(int workGroups) { return workGroups * BTOCL_PROGRESS_LINE; }
 BTOCL_INLINE int btoclProgressClaims(int workGroups, int pushIterations, int maxIterations) {

@@ -80,6 +80,18 @@ BTOCL_INLINE btoclRow btoclRowOfJacobian(btoclFloat4 n1, btoclFloat4 rp1, btoclF
     return r;
 }
 
+// Push (m_splitImpulse): a penetration past m_splitImpulsePenetrationThreshold is resolved by the
+// push velocities (the normal row's push share, rhsPenetration) instead of the velocity.
+BTOCL_INLINE int btoclPenetrationToPush(float penetration, const btoclSetupParams* prm) {
+    return prm->usePush && !(penetration > prm->pushThreshold);
+}
+// Whether a contact point's normal row may get a push share (only a penetration has one): the one
+// rule for the row and for the host's choice to run push iterations at all (passScheduleOf).
+BTOCL_INLINE int btoclPointMayNeedPush(float distance, const btoclSetupParams* prm) {
+    const float penetration = distance + prm->linearSlop;
+    return penetration < 0.0f && btoclPenetrationToPush(penetration, prm);
+}
+
 // setupContactConstraint: the non-penetration row, its starting impulse the warm start.
 BTOCL_INLINE btoclRow btoclNormalRow(const btoclContactPoint* pt, const btoclBody* A, const btoclBody* B,
                                      const btoclContactFrame* f, const btoclSetupParams* prm) {
@@ -132,8 +144,7 @@ BTOCL_INLINE btoclRow btoclNormalRow(const btoclContactPoint* pt, const btoclBod
         positionalError = -penetration * erp * prm->invTimeStep;
     const float penetrationImpulse = positionalError * jac;
     const float velocityImpulse = velocityError * jac;
-    // Push (m_splitImpulse): a shallow penetration is resolved by the push velocities instead.
-    if (prm->usePush && !(penetration > prm->pushThreshold)) {
+    if (btoclPenetrationToPush(penetration, prm)) {
         BTOCL_ROW_RHS(r) = velocityImpulse;
         BTOCL_ROW_RHS_PENETRATION(r) = penetrationImpulse;
     } else {

@@ -19,8 +19,7 @@ inline void storeRow(__global btoclSolveRow* rows, __global int* normalOfRow, __
 __kernel void setupContactRows(__global const btoclContactPoint* points, __global const btoclBody* bodies,
                                __global const int* rowMap, __global btoclSolveRow* rows,
                                __global int* normalOfRow, __global float* applied,
-                               __global float* pushApplied, __global float4* lateralDirs, __global int* control,
-                               btoclSetupParams prm) {
+                               __global float* pushApplied, __global float4* lateralDirs, btoclSetupParams prm) {
     const int i = get_global_id(0);
     if (i >= prm.numPoints) return;
     if (BTOCL_PREFETCHES && i + 8 < prm.numPoints) {
@@ -41,8 +40,6 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const int normalRow = rowMap[i];
     const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
     storeRow(rows, normalOfRow, applied, pushApplied, normalRow, normal, BTOCL_ROWS_NORMAL, normalRow);
-    // Most steps have no point this deep: the host then launches no push pass.
-    if (BTOCL_ROW_RHS_PENETRATION(normal) != 0.0f) atomic_or(control + BTOCL_CONTROL_HAS_PUSH, 1);
 
     if (pt.firstRollingRow >= 0) {
         float4 axis0, axis1;

@@ -100,78 +100,44 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
     return converged;
 }
 
-// A whole step in one launch of one work-group: the warm start, the push iterations
-// (when some row has a share: control[BTOCL_CONTROL_HAS_PUSH]), then the velocity
-// iterations (maxIterations: m_numIterations, or more for joints that ask for more), each stopped
-// on the device by the residual threshold when one is set. Leaves the velocity iterations run in
-// control[BTOCL_CONTROL_ITERATIONS].
+// The pass as a constant in each call, so that the compiler folds its branches away.
+#define BTOCL_BY_PASS(pass, CALL)                                           \
+    ((pass) == BTOCL_PASS_NORMAL     ? CALL(BTOCL_PASS_NORMAL)              \
+     : (pass) == BTOCL_PASS_FRICTION ? CALL(BTOCL_PASS_FRICTION)            \
+     : (pass) == BTOCL_PASS_PUSH     ? CALL(BTOCL_PASS_PUSH)                \
+                                     : CALL(BTOCL_PASS_WARMSTART))
+
+// A whole step in one launch of one work-group: the passes of the schedule in turn, an iteration
+// of push or velocity passes ending that kind early once its residual is under the threshold
+// (when one is set). Leaves the velocity iterations run in control[BTOCL_CONTROL_ITERATIONS].
 __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
                              __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
                              __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
                              __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
-                             int flags, int numIterations, int maxIterations, float threshold, int warmStart,
-                             int usePush) {
+                             int flags, float threshold, btoclPassSchedule schedule) {
     __local int groupResidual;
     if (get_local_id(0) == 0) groupResidual = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
-    if (warmStart)
-        solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,
-                       deltas, BTOCL_PASS_WARMSTART, flags, 0, numIterations);
-    if (usePush && control[BTOCL_CONTROL_HAS_PUSH])
-        for (int it = 0; it < numIterations; ++it) {
-            const float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied,
-                                           pushApplied, bodies, deltas, BTOCL_PASS_PUSH, flags, it,
-                                           numIterations);
-            if (track && iterationConverged(&groupResidual, r, threshold)) break;
-        }
+    const int numPasses = btoclPassCount(schedule);
     int iterations = 0;
-    for (int it = 0; it < maxIterations; ++it) {
-        float r = solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
-                                 bodies, deltas, BTOCL_PASS_NORMAL, flags, it, numIterations);
-        r = fmax(r, solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied,
-                                   bodies, deltas, BTOCL_PASS_FRICTION, flags, it, numIterations));
-        ++iterations;
-        if (track && iterationConverged(&groupResidual, r, threshold)) break;
+    float residual2 = 0.0f;
+    for (int i = 0; i < numPasses; ++i) {
+        const btoclPassStep p = btoclPassAt(schedule, i);
+#define BTOCL_SOLVE_ALL(PASS)                                                                                   \
+    solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, \
+                   deltas, PASS, flags, p.iteration, schedule.numIterations)
+        residual2 = fmax(residual2, BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_ALL));
+#undef BTOCL_SOLVE_ALL
+        if (!p.endsIteration) continue;
+        if (p.pass != BTOCL_PASS_PUSH) ++iterations;
+        if (track && iterationConverged(&groupResidual, residual2, threshold)) {
+            if (p.pass != BTOCL_PASS_PUSH) break;
+            i = btoclFirstVelocityPass(schedule) - 1;  // the push iterations have converged
+        }
+        residual2 = 0.0f;
     }
     if (get_local_id(0) == 0) control[BTOCL_CONTROL_ITERATIONS] = iterations;
-}
-
-// Which pass and iteration a pass index of solveStepClaimed is: the warm start (when asked),
-// the push iterations, then the velocity iterations (normal then friction while
-// iteration < numIterations, normal alone past it, for joints that ask for more).
-typedef struct {
-    int pass, iteration;
-    int residual;  // index of this iteration's residual among the step's; -1 for the warm start
-} btoclClaimedPass;
-
-inline btoclClaimedPass claimedPassAt(int index, int warmStart, int pushIterations, int numIterations,
-                                      int maxIterations) {
-    btoclClaimedPass p;
-    p.residual = -1;
-    if (index < warmStart) {
-        p.pass = BTOCL_PASS_WARMSTART;
-        p.iteration = 0;
-        return p;
-    }
-    index -= warmStart;
-    if (index < pushIterations) {
-        p.pass = BTOCL_PASS_PUSH;
-        p.iteration = index;
-        p.residual = index;
-        return p;
-    }
-    index -= pushIterations;
-    const int withFriction = min(numIterations, maxIterations);
-    if (index < 2 * withFriction) {
-        p.iteration = index / 2;
-        p.pass = (index & 1) ? BTOCL_PASS_FRICTION : BTOCL_PASS_NORMAL;
-    } else {
-        p.iteration = index - withFriction;  // past the 2 * withFriction passes of both halves
-        p.pass = BTOCL_PASS_NORMAL;
-    }
-    p.residual = pushIterations + p.iteration;
-    return p;
 }
 
 // On a CPU (BTOCL_PREFETCHES) the bodies of the constraint a few ahead are asked for: they lie
@@ -232,8 +198,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     __global const btoclConstraint* constraints,
     __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
     __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
-    __global int* control, __global int* progress, int flags, int numIterations, int maxIterations, float threshold,
-    int warmStart, int pushIterations) {
+    __global int* control, __global int* progress, int flags, float threshold, btoclPassSchedule schedule) {
     int setStart[BTOCL_NUM_SETS + 2];
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
     const int numGroups = setStart[BTOCL_NUM_SETS + 1];
@@ -242,16 +207,14 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     const int groupsPerClaim = max(1, 64 / max(1, numConstraints / max(1, numGroups)));
     const int self = get_group_id(0), numRanges = get_num_groups(0);
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;
-    const int numPasses = btoclPassesOfStep(warmStart, pushIterations, numIterations, maxIterations);
-    const int hasPenetration = control[BTOCL_CONTROL_HAS_PUSH];
+    const int numPasses = btoclPassCount(schedule);
     __global int* finished = progress + self * BTOCL_PROGRESS_LINE;
     __global int* residuals = progress + btoclProgressResiduals(numRanges);
-    __global int* claims = progress + btoclProgressClaims(numRanges, pushIterations, maxIterations);
+    __global int* claims = progress + btoclProgressClaims(numRanges, schedule.pushIterations, schedule.maxIterations);
     const int claimsPerGroup = btoclProgressClaimsPerGroup(numPasses);
-    int finishedHere = 0, iterationsRun = maxIterations;
+    int finishedHere = 0, iterationsRun = schedule.maxIterations;
     for (int passIndex = 0; passIndex < numPasses; ++passIndex) {
-        const btoclClaimedPass p =
-            claimedPassAt(passIndex, warmStart, pushIterations, numIterations, maxIterations);
+        const btoclPassStep p = btoclPassAt(schedule, passIndex);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = setStart[set], count = setStart[set + 1] - first;
             if (count == 0) continue;
@@ -264,7 +227,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
             const int previousConverged = track && p.residual >= 0 && p.iteration > 0 &&
                                           as_float(atomic_or(residuals + p.residual - 1, 0)) <= threshold;
             if (previousConverged && p.pass != BTOCL_PASS_PUSH) iterationsRun = min(iterationsRun, p.iteration);
-            const int solve = !previousConverged && (p.pass != BTOCL_PASS_PUSH || hasPenetration);
+            const int solve = !previousConverged;
             for (int k = 0; k < numRanges; ++k) {
                 const int range = self + k < numRanges ? self + k : self + k - numRanges;
                 const int2 r = claimRange(first, count, range, numRanges);
@@ -273,16 +236,11 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                      claimed = r.x + atomic_add(counter, groupsPerClaim))
                     for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
                         if (solve) {
-                            // The pass as a constant in each call, so that the compiler folds its branches away.
                             const btoclGroup g = groups[group];
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                           \
     solveCellGroupOneLane(g, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, PASS, flags, \
-                      p.iteration, numIterations)
-                            const float groupResidual2 =
-                                p.pass == BTOCL_PASS_NORMAL        ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_NORMAL)
-                                : p.pass == BTOCL_PASS_FRICTION    ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_FRICTION)
-                                : p.pass == BTOCL_PASS_PUSH ? BTOCL_SOLVE_CLAIMED(BTOCL_PASS_PUSH)
-                                                                   : BTOCL_SOLVE_CLAIMED(BTOCL_PASS_WARMSTART);
+                          p.iteration, schedule.numIterations)
+                            const float groupResidual2 = BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_CLAIMED);
 #undef BTOCL_SOLVE_CLAIMED
                             // Before the group counts as finished: whoever sees it finished sees this.
                             if (track && p.residual >= 0 && groupResidual2 > 0.0f)

@@ -36,10 +36,10 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
 enum class Transfers { AsDevice, Copied, CopiedFromPinned };
 
 // Uploads, arranges, solves and reads back a gathered problem on the device, in `layout`'s order,
-// with the lanes of the path under test; launch: one launch per set and pass, or the whole step in one (SolveLaunch).
+// with the lanes of the path under test, launched as `mode` says.
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                         std::vector<btoclRow>* rows = nullptr, SolveLaunch launch = SolveLaunch::PerSet,
+                         std::vector<btoclRow>* rows = nullptr, StepMode mode = StepMode::PerSet,
                          Transfers transfers = Transfers::AsDevice) {
     OclRuntime rt("");
     if (transfers != Transfers::AsDevice) rt.transferByCopy();
@@ -54,13 +54,13 @@ inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveS
         REQUIRE(pinned.bytesHeld() >= p.points.size() * sizeof(btoclContactPoint));
     }
     DevicePrimitives primitives(rt, testBackend());
-    DeviceSolver solver(rt, primitives, testLanesPerGroup());
+    DeviceSolver solver(rt, primitives);
+    const StepPlan plan = testPlan(mode, passScheduleOf(settings, p));
     solver.upload(p);
-    DeviceLayoutView view = solver.uploadLayout(layout);
-    view.launch = launch;
+    const DeviceLayoutView view = solver.uploadLayout(layout);
     solver.arrange(p, view);
-    solver.iterate(p, view, settings);
-    const int iterations = solver.download(p, settings);
+    solver.iterate(p, plan, view, settings);
+    const int iterations = solver.download(p, plan, settings);
     if (rows) *rows = solver.downloadRows(p);
     return iterations;
 }

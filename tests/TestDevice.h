@@ -3,6 +3,7 @@
 #pragma once
 
 #include "DevicePrimitives.h"
+#include "StepPlan.h"
 
 #include <cstdlib>
 #include <string>
@@ -18,6 +19,17 @@ inline bool testsRunWide() {
 inline DevicePrimitives::Backend testBackend() {
     return testsRunWide() ? DevicePrimitives::Backend::BoostCompute : DevicePrimitives::Backend::Chunked;
 }
-inline int testLanesPerGroup() { return testsRunWide() ? 64 : 1; }
+inline GroupLanes testLanes() { return testsRunWide() ? GroupLanes::wide(64) : GroupLanes::serial(); }
+
+// A plan of the given mode on the path under test, with the step's passes (the claimed mode is
+// the serial path's: one lane a group).
+inline StepPlan testPlan(StepMode mode, const btoclPassSchedule& passes) {
+    switch (mode) {
+        case StepMode::WholeStep: return StepPlan::wholeStep(testLanes(), passes);
+        case StepMode::PerSet: return StepPlan::perSet(testLanes(), passes);
+        case StepMode::Claimed: break;
+    }
+    return StepPlan::claimed(passes);
+}
 
 }  // namespace btocl::test

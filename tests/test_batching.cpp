@@ -39,10 +39,16 @@ Fixture& fixture() {
     return f;
 }
 
+// The layout reads no pass of a plan.
+constexpr btoclPassSchedule kNoPasses{0, 0, 0, 0};
+
+// The wide path's layout: the global split, each group in local batches.
+StepPlan splitInBatches(const SplitParams& params) { return StepPlan::perSet(GroupLanes::wide(params.workGroupSize), kNoPasses); }
+
 BatchLayout runDevice(const BatchScene& scene, const SplitParams& params = SplitParams{}) {
     Fixture& f = fixture();
     f.constraints.write(f.rt, scene.constraints);
-    f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, params);
+    f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, params, splitInBatches(params));
     return f.batcher.download();
 }
 
@@ -198,7 +204,7 @@ TEST_CASE("two builds of a 1000-body pile give bitwise equal layouts", "[batchin
     DeviceLayout other(fixture().rt, fixture().primitives);
     DeviceBuffer<btoclConstraint> buffer;
     buffer.write(fixture().rt, scene.constraints);
-    other.build(buffer, int(scene.constraints.size()), scene.bodies, SplitParams{});
+    other.build(buffer, int(scene.constraints.size()), scene.bodies, SplitParams{}, splitInBatches(SplitParams{}));
     const BatchLayout d = other.download();
     for (const BatchLayout* x : {&c, &d}) {
         CHECK(x->solveOrder == a.solveOrder);
@@ -391,10 +397,11 @@ TEST_CASE("layouts of worlds with joints keep every invariant", "[batching][join
                     scene.name.c_str(), scene.constraints.size(), numJointConstraints(scene.constraints),
                     device.groups.size(), device.numOverflowConstraints, double(device.cellSize));
         // The serial path's (one run per group) and the one-group layout of a small step.
-        for (const LayoutOptions options : {LayoutOptions{false, false}, LayoutOptions{true, true}}) {
+        for (const StepPlan& plan : {StepPlan::perSet(GroupLanes::serial(), kNoPasses),
+                                     StepPlan::wholeStep(GroupLanes::wide(64), kNoPasses)}) {
             Fixture& f = fixture();
             f.constraints.write(f.rt, scene.constraints);
-            f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, SplitParams{}, options);
+            f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, SplitParams{}, plan);
             CHECK(validateBatchLayout(f.batcher.download(), scene.constraints) == "");
         }
     }

@@ -53,9 +53,9 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     btContactSolverInfo info = w.stepInfo();
     auto mode = GENERATE(0, 1, 2);
     const bool rotate = GENERATE(false, true);
-    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
     CAPTURE(mode, rotate, int(launch));
-    if (launch == SolveLaunch::Claimed && testsRunWide()) return;  // one lane a group: the serial path's
+    if (launch == StepMode::Claimed && testsRunWide()) return;  // one lane a group: the serial path's
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     StepProblem host = gatherPileProblem(w, info);
@@ -88,9 +88,9 @@ TEST_CASE("results handed back in place equal results copied back", "[solve]") {
     StepProblem copied = inPlace, pinned = inPlace;
     const BatchLayout layout = buildSerialLayout(int(inPlace.constraints.size()));
     const SolveSettings settings = SolveSettings::from(info, true);
-    solveOnDevice(inPlace, layout, settings, nullptr, SolveLaunch::WholeStep);
-    solveOnDevice(copied, layout, settings, nullptr, SolveLaunch::WholeStep, Transfers::Copied);
-    solveOnDevice(pinned, layout, settings, nullptr, SolveLaunch::WholeStep, Transfers::CopiedFromPinned);
+    solveOnDevice(inPlace, layout, settings, nullptr, StepMode::WholeStep);
+    solveOnDevice(copied, layout, settings, nullptr, StepMode::WholeStep, Transfers::Copied);
+    solveOnDevice(pinned, layout, settings, nullptr, StepMode::WholeStep, Transfers::CopiedFromPinned);
     auto sameBits = [](const auto& a, const auto& b) {
         return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
     };
@@ -118,9 +118,9 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
     const SolveSettings settings = SolveSettings::from(info, true);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
-    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
     CAPTURE(int(launch));
-    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
+    if (launch == StepMode::Claimed && testsRunWide()) return;
     const int hostIterations = solveOnHost(host, layout, settings);
     const int deviceIterations = solveOnDevice(dev, layout, settings, nullptr, launch);
     INFO("host " << hostIterations << " device " << deviceIterations << " of " << info.m_numIterations);
@@ -149,18 +149,17 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     DeviceLayout batcher(rt, primitives);
     DeviceBuffer<btoclConstraint> constraints;
     constraints.write(rt, host.constraints);
-    LayoutOptions options;
-    options.localBatches = testsRunWide();
     SplitParams params;
     params.cellSize = 4.0f;  // cells of a few boxes: many groups in every set, some long
-    batcher.build(constraints, int(host.constraints.size()), host.splitBodies, params, options);
+    const SolveSettings settings = SolveSettings::from(info, true);
+    batcher.build(constraints, int(host.constraints.size()), host.splitBodies, params,
+                  testPlan(StepMode::PerSet, passScheduleOf(settings, host)));
     const BatchLayout layout = batcher.download();
     REQUIRE(layout.setGroupStart[BTOCL_NUM_SETS] > 8);
     REQUIRE(validateBatchLayout(layout, host.constraints) == "");
-    const SolveSettings settings = SolveSettings::from(info, true);
-    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::Claimed);
+    const StepMode launch = GENERATE(StepMode::PerSet, StepMode::Claimed);
     CAPTURE(int(launch));
-    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
+    if (launch == StepMode::Claimed && testsRunWide()) return;
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, launch);
     // As above: fused multiply-adds change the last bits of each row update.
@@ -184,23 +183,22 @@ TEST_CASE("joints that ask for more iterations than the contacts get are solved 
     StepProblem host = gatherProblem(w, info, RowSetup::Host);
     REQUIRE(host.numJointRows() > 0);
     REQUIRE(host.numContactPoints() > 0);
-    SolveSettings settings = SolveSettings::from(info, false);
-    settings.maxIterations = host.maxIterations(settings.numIterations);
-    REQUIRE(settings.maxIterations == 30);
+    const SolveSettings settings = SolveSettings::from(info, false);
+    REQUIRE(passScheduleOf(settings, host).maxIterations == 30);
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
     StepProblem shortRun = host;  // the joints cut to the contacts' 4 iterations
     for (btoclConstraint& c : shortRun.constraints)
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) BTOCL_CONSTRAINT_ITERATIONS(c) = float(settings.numIterations);
-    SolveSettings shortSettings = settings;
-    shortSettings.maxIterations = settings.numIterations;
-    solveOnHost(shortRun, layout, shortSettings);
+    shortRun.joints.maxIterations = settings.numIterations;
+    REQUIRE(passScheduleOf(settings, shortRun).maxIterations == 4);
+    solveOnHost(shortRun, layout, settings);
     StepProblem dev = host;
     solveOnHost(host, layout, settings);
     REQUIRE(worstSolveGap(host, shortRun) > 1e-2f);  // the extra passes change the result
 
-    const SolveLaunch launch = GENERATE(SolveLaunch::PerSet, SolveLaunch::WholeStep, SolveLaunch::Claimed);
+    const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
     CAPTURE(int(launch));
-    if (launch == SolveLaunch::Claimed && testsRunWide()) return;
+    if (launch == StepMode::Claimed && testsRunWide()) return;
     solveOnDevice(dev, layout, settings, nullptr, launch);
     const float worst = worstSolveGap(host, dev);
     INFO("worst relative difference " << worst);

@@ -232,6 +232,9 @@ public:
         std::vector<btoclConstraint> jointConstraints = g.joints.constraints;
         for (btoclConstraint& c : jointConstraints) c.firstRow[BTOCL_ROWS_JOINT] += base;
         p.constraints.insert(p.constraints.begin(), jointConstraints.begin(), jointConstraints.end());
+        p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
+                                      p.numRowsOf(BTOCL_ROWS_ROLLING), int(g.joints.rows.size()));
+        p.joints = g.joints;  // the step's iteration count, as SI's (passScheduleOf)
         solveOnHost(p, buildSerialLayout(int(p.constraints.size())), SolveSettings::from(info, false));
 
         std::vector<btVector3> linear, angular;

@@ -125,8 +125,7 @@ void batchGroupStreamed(const std::vector<btoclConstraint>& constraints, BatchLa
 
 BatchLayout buildWith(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
                       const SplitParams& params, GroupBatcher batcher, int windowSize) {
-    if (params.batchIterations < 1)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: batchIterations must be at least 1");
+    checkSplitParams(params);
     BatchLayout layout = splitHost(constraints, bodies, params);
     for (btoclGroup& g : layout.groups) batcher(constraints, layout, g, params, windowSize);
     return layout;

@@ -1,5 +1,6 @@
 #include "HostSolver.h"
 
+#include "StepPlan.h"
 #include "row_setup.h"
 #include "row_solve.h"
 
@@ -48,18 +49,6 @@ float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout
     return maxResidual2;
 }
 
-// SI's iteration count: m_numIterations, or more when some joint overrides it with more.
-int iterationsWithJoints(const StepProblem& p, int numIterations, int& numJointRows) {
-    int iterations = numIterations;
-    numJointRows = 0;
-    for (const btoclConstraint& c : p.constraints) {
-        if (c.numRows[BTOCL_ROWS_JOINT] == 0) continue;
-        numJointRows += c.numRows[BTOCL_ROWS_JOINT];
-        iterations = std::max(iterations, int(BTOCL_CONSTRAINT_ITERATIONS(c)));
-    }
-    return iterations;
-}
-
 }  // namespace
 
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings) {
@@ -70,23 +59,21 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
         pushApplied[r] = BTOCL_ROW_APPLIED_PUSH(p.rows[r]);
     }
     const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    auto pass = [&](int which, int iteration) {
-        return solvePass(p, rows, layout, applied, pushApplied, which, settings.flags, iteration,
-                         settings.numIterations);
-    };
-    int iterations = 0, numJointRows = 0;
-    const int maxIterations = iterationsWithJoints(p, settings.numIterations, numJointRows);
-    if (p.numContactPoints() > 0 || numJointRows > 0) {
-        if (settings.warmStart) pass(BTOCL_PASS_WARMSTART, 0);
-        if (settings.usePush)
-            for (int it = 0; it < settings.numIterations; ++it)
-                if (pass(BTOCL_PASS_PUSH, it) <= settings.residualThreshold && track) break;
-        for (int it = 0; it < maxIterations; ++it) {
-            const float normal = pass(BTOCL_PASS_NORMAL, it);  // before the friction: SI's order of kinds
-            const float residual = std::max(normal, pass(BTOCL_PASS_FRICTION, it));
-            ++iterations;
-            if (track && residual <= settings.residualThreshold) break;
+    const btoclPassSchedule schedule = passScheduleOf(settings, p);
+    const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(schedule);
+    int iterations = 0;
+    float residual2 = 0;
+    for (int i = 0; i < numPasses; ++i) {
+        const btoclPassStep step = btoclPassAt(schedule, i);
+        residual2 = std::max(residual2, solvePass(p, rows, layout, applied, pushApplied, step.pass, settings.flags,
+                                                  step.iteration, schedule.numIterations));
+        if (!step.endsIteration) continue;
+        if (step.pass != BTOCL_PASS_PUSH) ++iterations;
+        if (track && residual2 <= settings.residualThreshold) {
+            if (step.pass != BTOCL_PASS_PUSH) break;
+            i = btoclFirstVelocityPass(schedule) - 1;  // the push iterations have converged
         }
+        residual2 = 0;
     }
     p.appliedImpulses.assign(applied.begin(), applied.end());
     return iterations;

@@ -9,8 +9,8 @@
 
 namespace btocl {
 
-// Solves rows set up on the host (p.rows, gather order) in `layout`'s order: the warm start,
-// the push and the velocity iterations (as many as SI runs: joints may ask for more).
+// Solves rows set up on the host (p.rows, gather order) in `layout`'s order, walking the step's
+// passes as the device does (passScheduleOf, StepPlan.h).
 // Leaves p.deltas as DeviceSolver::download does, and p.appliedImpulses for every row (the device
 // reads back the normal and friction rows, the first ones). Returns the velocity iterations run.
 int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings);

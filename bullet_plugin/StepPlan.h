@@ -1,0 +1,75 @@
+// How one step is laid out and launched, decided once per step (planStep, StepPolicy.h) and taken
+// whole by the layout (DeviceLayout::build) and the solve (DeviceSolver). The plan holds only
+// combinations that the kernels can run: a plan is made by its factories alone.
+#pragma once
+
+#include "SolveSettings.h"
+#include "StepProblem.h"
+#include "btocl_shared.h"
+
+namespace btocl {
+
+// How the iterations of a step are launched.
+enum class StepMode {
+    WholeStep,  // no global split: every constraint in one group, every pass in one launch of one work-group
+    PerSet,     // the global split; one launch per set and pass, the groups of a set side by side
+    Claimed,    // the global split; one launch of a single-lane work-group per compute unit, which
+                // claim each set's groups in turn (solve.cl: solveStepClaimed)
+};
+
+// How a group's constraints meet the lanes, fixed for a solver by its path: the serial path walks
+// a group with one lane, in order, and builds no local batches; the wide path runs a work-group's
+// lanes over a group's batches of independent constraints.
+struct GroupLanes {
+    int lanes = 1;
+    bool localBatches = false;
+
+    static GroupLanes serial() { return GroupLanes{1, false}; }
+    static GroupLanes wide(int workGroupSize) { return GroupLanes{workGroupSize, true}; }
+};
+
+class StepPlan {
+public:
+    static StepPlan wholeStep(GroupLanes lanes, const btoclPassSchedule& passes) {
+        return StepPlan(StepMode::WholeStep, lanes, passes);
+    }
+    static StepPlan perSet(GroupLanes lanes, const btoclPassSchedule& passes) {
+        return StepPlan(StepMode::PerSet, lanes, passes);
+    }
+    // One lane a group: the claimed launch walks each group's constraints in order.
+    static StepPlan claimed(const btoclPassSchedule& passes) {
+        return StepPlan(StepMode::Claimed, GroupLanes::serial(), passes);
+    }
+
+    StepMode mode() const { return m_mode; }
+    int lanesPerGroup() const { return m_lanes.lanes; }
+    // Groups ordered as batches of constraints that share no dynamic body (else one run a group).
+    bool localBatches() const { return m_lanes.localBatches; }
+    // Every constraint in one group (set 0), no global split.
+    bool oneGroup() const { return m_mode == StepMode::WholeStep; }
+    // The solve reads the split's set starts on the device, so the host does not wait for them.
+    bool setStartsOnDevice() const { return m_mode == StepMode::Claimed; }
+    const btoclPassSchedule& passes() const { return m_passes; }
+
+private:
+    StepPlan(StepMode mode, GroupLanes lanes, const btoclPassSchedule& passes)
+        : m_mode(mode), m_lanes(lanes), m_passes(passes) {}
+
+    StepMode m_mode;
+    GroupLanes m_lanes;
+    btoclPassSchedule m_passes;
+};
+
+// The step's passes (btocl_shared.h): the one place that decides them. Push iterations run only
+// where some contact point may get a push share (StepProblem::mayNeedPush); the velocity
+// iterations are m_numIterations, or more where a joint asks (SI's maxIterations).
+inline btoclPassSchedule passScheduleOf(const SolveSettings& s, const StepProblem& p) {
+    btoclPassSchedule passes;
+    passes.warmStart = s.warmStart ? 1 : 0;
+    passes.pushIterations = s.usePush && p.mayNeedPush ? s.numIterations : 0;
+    passes.numIterations = s.numIterations;
+    passes.maxIterations = p.maxIterations(s.numIterations);
+    return passes;
+}
+
+}  // namespace btocl

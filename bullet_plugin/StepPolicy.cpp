@@ -1,0 +1,67 @@
+#include "StepPolicy.h"
+
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+namespace btocl {
+namespace {
+
+// When a step runs whole in one launch of one work-group (no global split, no sets): when the
+// split and the sets' groups solved side by side would save less than they cost.
+// - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
+// - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
+//   units in one claimed launch. Measured on PoCL (docs/performance.md): the crossover, about 30K
+//   rows on 2 units, falls as units are added (the split saves a larger share), so the whole step
+//   takes at most 16K x units / (units - 1) rows, without limit on one unit.
+constexpr int kWholeStepMaxConstraintsWide = 1024;
+constexpr double kWholeStepRowsPerUnitShare = 16384;
+
+double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
+    const double units = double(runtime.computeUnits());
+    if (units <= 1) return std::numeric_limits<double>::infinity();
+    return kWholeStepRowsPerUnitShare * units / (units - 1);
+}
+
+btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
+    if (asked != btOpenCLSolvePath::Auto) return asked;
+    if (const char* env = std::getenv("BT_OPENCL_SOLVE_PATH"); env && *env) {
+        const std::string value = env;
+        if (value == "serial") return btOpenCLSolvePath::Serial;
+        if (value == "wide") return btOpenCLSolvePath::Wide;
+        if (value != "auto")
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SOLVE_PATH is '" + value +
+                                      "'; it takes auto, serial or wide");
+    }
+    return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
+}
+
+}  // namespace
+
+SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime) {
+    using Backend = DevicePrimitives::Backend;
+    SolverPlan plan;
+    plan.path = resolveSolvePath(config.solvePath, runtime);
+    plan.lanes = plan.wide() ? GroupLanes::wide(config.workGroupSize) : GroupLanes::serial();
+    // The serial path sorts and scans with our chunked kernels. The wide path takes on a GPU the
+    // faster of the two there, measured (DevicePrimitives::fasterBackend), and on a CPU device,
+    // which runs it for the tests, Boost.Compute's, so that they cover what a GPU may get.
+    plan.sortAndScan = !plan.wide() ? Backend::Chunked : runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
+    plan.wholeStepMaxRows = config.wholeStepMaxRows;
+    plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime);
+    return plan;
+}
+
+StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings) {
+    const btoclPassSchedule passes = passScheduleOf(settings, p);
+    const bool whole = solver.wholeStepMaxRows >= 0 ? p.numRows() <= solver.wholeStepMaxRows
+                       : solver.wide()             ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide
+                                                   : double(p.numRows()) <= solver.autoWholeStepMaxRows;
+    if (whole) return StepPlan::wholeStep(solver.lanes, passes);
+    // A split step on the serial path runs in one claimed launch (the per-set launches, about a
+    // hundred a step, cost PoCL some 40 us each); the wide path keeps one launch per set and pass
+    // until it is measured on a GPU.
+    return solver.wide() ? StepPlan::perSet(solver.lanes, passes) : StepPlan::claimed(passes);
+}
+
+}  // namespace btocl

@@ -1,0 +1,30 @@
+// Every choice of how a step is solved, in one place: per solver, the path and what follows from
+// it (planSolver); per step, the launch mode and the passes (planStep).
+#pragma once
+
+#include "DevicePrimitives.h"
+#include "OclRuntime.h"
+#include "StepPlan.h"
+#include "btOpenCLConstraintSolver.h"
+
+namespace btocl {
+
+// What a solver fixes when it is made.
+struct SolverPlan {
+    btOpenCLSolvePath path = btOpenCLSolvePath::Serial;  // never Auto
+    GroupLanes lanes;
+    DevicePrimitives::Backend sortAndScan = DevicePrimitives::Backend::Chunked;
+    int wholeStepMaxRows = -1;           // the config's: -1 automatic, 0 never, n: steps of at most n rows
+    double autoWholeStepMaxRows = 0;     // serial path, automatic: by the device's compute units
+    bool wide() const { return path == btOpenCLSolvePath::Wide; }
+};
+
+// The path asked for (or BT_OPENCL_SOLVE_PATH's, or the device type's) and its lanes, sort and
+// scan. Throws btOpenCLSolverError for an unknown BT_OPENCL_SOLVE_PATH.
+SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime);
+
+// How this step runs: whole in one launch where the split would cost more than it saves, else
+// split and launched as the path does; and its passes.
+StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings);
+
+}  // namespace btocl
