@@ -94,6 +94,13 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
+// The buffers every solve kernel takes first, arguments 0 to kSolveBufferArgs - 1, in the order
+// of kernels/solve.cl's BTOCL_SOLVE_KERNEL_BUFFERS.
+void DeviceSolver::bindSolveBuffers(cl::Kernel& k, const DeviceLayoutView& layout) const {
+    setArgs(k, *layout.groups, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(),
+            m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer());
+}
+
 void DeviceSolver::launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
                               const SolveSettings& s) {
     cl::Kernel& k = m_passKernels[size_t(pass.pass)];
@@ -101,9 +108,8 @@ void DeviceSolver::launchPass(const StepPlan& plan, const DeviceLayoutView& layo
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
-        setArgs(k, *layout.groups, first, *layout.batchEnd, m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(),
-                m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(),
-                s.flags, pass.iteration, plan.passes().numIterations);
+        bindSolveBuffers(k, layout);
+        setArgsFrom(k, kSolveBufferArgs, first, s.flags, pass.iteration, plan.passes().numIterations);
         m_rt.launch(k, size_t(count) * lanes, lanes, "launching a solve pass");
     }
 }
@@ -123,9 +129,9 @@ void DeviceSolver::launchPerSet(const StepPlan& plan, const DeviceLayoutView& la
 }
 
 void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& s) {
-    setArgs(m_wholeStep, *layout.groups, layout.setGroupStart[BTOCL_NUM_SETS + 1], *layout.batchEnd,
-            m_placed.buffer(), m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(),
-            m_bodies.buffer(), m_deltas.buffer(), m_control.buffer(), s.flags, s.residualThreshold, plan.passes());
+    bindSolveBuffers(m_wholeStep, layout);
+    setArgsFrom(m_wholeStep, kSolveBufferArgs, layout.setGroupStart[BTOCL_NUM_SETS + 1], s.flags, s.residualThreshold,
+                plan.passes());
     const size_t lanes = size_t(plan.lanesPerGroup());
     m_rt.launch(m_wholeStep, lanes, lanes, "launching solveWholeStep");
 }
@@ -139,9 +145,9 @@ void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, con
     const int workGroups = int(m_rt.computeUnits());
     m_progress.fill(m_rt, 0,
                     size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations)));
-    setArgs(m_claimed, *layout.groups, *layout.setGroupStartOnDevice, int(p.constraints.size()), m_placed.buffer(),
-            m_rows.buffer(), m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(),
-            m_deltas.buffer(), m_control.buffer(), m_progress.buffer(), s.flags, s.residualThreshold, passes);
+    bindSolveBuffers(m_claimed, layout);
+    setArgsFrom(m_claimed, kSolveBufferArgs, *layout.setGroupStartOnDevice, m_progress.buffer(),
+                int(p.constraints.size()), s.flags, s.residualThreshold, passes);
     m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
 }
 

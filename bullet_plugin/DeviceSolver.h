@@ -50,6 +50,8 @@ public:
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
+    static constexpr cl_uint kSolveBufferArgs = 10;
+    void bindSolveBuffers(cl::Kernel& kernel, const DeviceLayoutView& layout) const;
     void launchPerSet(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     void launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
                     const SolveSettings& settings);

@@ -121,11 +121,16 @@ private:
 // Milliseconds between an event's start and end (0 without profiling).
 double eventMs(const cl::Event& event);
 
-// Sets a kernel's arguments in order: setArgs(kernel, buffer, n, params) is arguments 0, 1, 2.
+// Sets a kernel's arguments in order from `first`: setArgsFrom(kernel, 2, buffer, n) is arguments 2, 3.
+template <class... Args>
+void setArgsFrom(cl::Kernel& kernel, cl_uint first, const Args&... args) {
+    cl_uint index = first;
+    (checkCl(kernel.setArg(index++, args), "setting a kernel argument"), ...);
+}
+// setArgs(kernel, buffer, n, params) is arguments 0, 1, 2.
 template <class... Args>
 void setArgs(cl::Kernel& kernel, const Args&... args) {
-    cl_uint index = 0;
-    (checkCl(kernel.setArg(index++, args), "setting a kernel argument"), ...);
+    setArgsFrom(kernel, 0, args...);
 }
 
 }  // namespace btocl

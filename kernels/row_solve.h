@@ -21,6 +21,20 @@
 #define BTOCL_FLT_MAX FLT_MAX
 #endif
 
+// The arrays a solve pass reads and writes, one struct for every function of the solve (the
+// kernels build it at their entry; the host reference from its vectors). Rows and their applied
+// impulses are indexed in one order (solve order on the device); normalOfRow gives a friction or
+// rolling row its normal row there.
+typedef struct {
+    BTOCL_GLOBAL const btoclConstraint* constraints;
+    BTOCL_GLOBAL const btoclSolveRow* rows;
+    BTOCL_GLOBAL const int* normalOfRow;
+    BTOCL_GLOBAL float* applied;
+    BTOCL_GLOBAL float* pushApplied;
+    BTOCL_GLOBAL const btoclBody* bodies;
+    BTOCL_GLOBAL btoclBodyDelta* deltas;
+} btoclSolveBuffers;
+
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once. What a unit impulse does to it is scaled once
 // here, not at every row: a body that cannot move gets zero scales, so no row tests it.
@@ -115,19 +129,17 @@ BTOCL_INLINE float btoclResidual2(BTOCL_GLOBAL const btoclSolveRow* row, float d
 // Friction and rolling rows: the limit follows the normal row's impulse of this iteration
 // (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
 // solveSingleIteration).
-BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstraint* c, int kind,
-                                                BTOCL_GLOBAL const btoclSolveRow* rows, BTOCL_GLOBAL const int* normalOfRow,
-                                                BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
-                                                int track) {
+BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                                int kind, btoclSolveBody* A, btoclSolveBody* B, int track) {
     float maxResidual2 = 0.0f;
     for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
-        BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
-        const float total = applied[normalOfRow[r]];
+        BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
+        const float total = b->applied[b->normalOfRow[r]];
         if (!(total > 0.0f)) continue;
         const float friction = BTOCL_SOLVE_ROW_FRICTION(*row);
         float limit = friction * total;
         if (kind == BTOCL_ROWS_ROLLING && limit > friction) limit = friction;
-        const float delta = btoclSolveRowImpulse(row, applied + r, A, B, -limit, limit, 0);
+        const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, -limit, limit, 0);
         if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
     return maxResidual2;
@@ -135,16 +147,15 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(BTOCL_GLOBAL const btoclConstrai
 
 // Joint rows, each within its own limits (motors and joint limits live there), while the joint
 // still takes part: SI solves a joint's rows while iteration < its override count.
-BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
-                                       BTOCL_GLOBAL float* applied, btoclSolveBody* A, btoclSolveBody* B,
-                                       int track, int iteration) {
+BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
     const int end = first + c->numRows[BTOCL_ROWS_JOINT];
     if (first == end || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
     for (int r = first; r < end; ++r) {
-        BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
-        const float delta = btoclSolveRowImpulse(row, applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
+        BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
+        const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
                                                  BTOCL_SOLVE_ROW_UPPER(*row), 0);
         if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
@@ -157,31 +168,26 @@ BTOCL_INLINE float btoclSolveJointRows(BTOCL_GLOBAL const btoclConstraint* c, BT
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
-BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint* c, BTOCL_GLOBAL const btoclSolveRow* rows,
-                                              BTOCL_GLOBAL const int* normalOfRow, BTOCL_GLOBAL float* applied,
-                                              BTOCL_GLOBAL float* pushApplied, BTOCL_GLOBAL const btoclBody* bodies,
-                                              BTOCL_GLOBAL btoclBodyDelta* deltas, int pass, int flags, int iteration,
-                                              int numIterations) {
+BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                              int pass, int flags, int iteration, int numIterations) {
     const int push = pass == BTOCL_PASS_PUSH;
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    btoclSolveBody A = btoclLoadSolveBody(bodies + c->bodyA, deltas + c->bodyA, push, applyFactors);
-    btoclSolveBody B = btoclLoadSolveBody(bodies + c->bodyB, deltas + c->bodyB, push, applyFactors);
+    btoclSolveBody A = btoclLoadSolveBody(b->bodies + c->bodyA, b->deltas + c->bodyA, push, applyFactors);
+    btoclSolveBody B = btoclLoadSolveBody(b->bodies + c->bodyB, b->deltas + c->bodyB, push, applyFactors);
     float maxResidual2 = 0.0f;
     // Contact rows take part while iteration < numIterations; joint rows come first, as in SI's
     // iteration, while the joint's own count allows (btoclSolveJointRows).
     const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
-            maxResidual2 =
-                btoclSolveFrictionRows(c, BTOCL_ROWS_FRICTION, rows, normalOfRow, applied, &A, &B, track);
-            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(c, BTOCL_ROWS_ROLLING, rows, normalOfRow, applied,
-                                                                     &A, &B, track));
+            maxResidual2 = btoclSolveFrictionRows(b, c, BTOCL_ROWS_FRICTION, &A, &B, track);
+            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c, BTOCL_ROWS_ROLLING, &A, &B, track));
         }
     } else {
         // Joints are neither warm-started nor part of the push iterations (SI's neither).
-        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(c, rows, applied, &A, &B, track, iteration);
+        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(b, c, &A, &B, track, iteration);
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
         // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
@@ -192,24 +198,24 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(BTOCL_GLOBAL const btoclConstraint
                               : 0;
         for (int k = 0; k < count; ++k) {
             const int r = first + (start + k < count ? start + k : start + k - count);
-            BTOCL_GLOBAL const btoclSolveRow* row = rows + r;
+            BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
             float delta;
             if (pass == BTOCL_PASS_WARMSTART) {
                 // SI applies each normal row's starting impulse to both bodies as it sets the row up.
-                const float start = applied[r];
+                const float start = b->applied[r];
                 btoclApplyRowImpulse(row, &A, &B, start);
                 continue;
             } else if (pass == BTOCL_PASS_PUSH) {
                 if (BTOCL_SOLVE_ROW_RHS_PENETRATION(*row) == 0.0f) continue;  // no push share
-                delta = btoclSolveRowImpulse(row, pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 1);
+                delta = btoclSolveRowImpulse(row, b->pushApplied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 1);
             } else {
-                delta = btoclSolveRowImpulse(row, applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);
+                delta = btoclSolveRowImpulse(row, b->applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);
             }
             if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
         }
     }
-    btoclStoreSolveBody(&A, deltas + c->bodyA, push);
-    btoclStoreSolveBody(&B, deltas + c->bodyB, push);
+    btoclStoreSolveBody(&A, b->deltas + c->bodyA, push);
+    btoclStoreSolveBody(&B, b->deltas + c->bodyB, push);
     return maxResidual2;
 }
 

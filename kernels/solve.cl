@@ -5,19 +5,31 @@
 // btSequentialImpulseConstraintSolver's (kernels/row_solve.h, shared with the serial host
 // reference, bullet_plugin/reference/HostSolver.cpp).
 //
-// Two ways to launch: a step with many groups launches one kernel per set and pass (all groups of
-// a set at once); a small step (one group) runs whole in solveWholeStep, every pass and iteration
-// in one launch, since a launch costs more than solving a few hundred constraints.
+// Three launch modes (StepMode, StepPlan.h), each walking the step's passes (btoclPassAt):
+// - per set: one launch per set and pass, the groups of a set side by side (solveNormalRows, ...);
+// - whole step: one group, every pass in one launch of one work-group (solveWholeStep), where a
+//   launch costs more than solving the step's constraints;
+// - claimed: every pass in one launch of a single-lane work-group per compute unit, which claim
+//   each set's groups in turn (solveStepClaimed, the serial path's).
 #include "btocl_shared.h"
 #include "row_solve.h"
+
+// The buffers of every solve kernel, first among its parameters and in this order
+// (DeviceSolver::bindSolveBuffers sets them): the layout (groups, batch ends), what the rows read
+// and write (btoclSolveBuffers), and the control block.
+#define BTOCL_SOLVE_KERNEL_BUFFERS                                                                              \
+    __global const btoclGroup *groups, __global const int *batchEnd, __global const btoclConstraint *constraints, \
+        __global const btoclSolveRow *rows, __global const int *normalOfRow, __global float *applied,            \
+        __global float *pushApplied, __global const btoclBody *bodies, __global btoclBodyDelta *deltas,          \
+        __global int *control
+// ... bundled at the kernel's entry.
+#define BTOCL_SOLVE_BUFFERS_OF_PARAMS {constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas}
 
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
 // this one wrote), the lanes of the work-group sharing a batch. Returns this lane's largest
 // squared residual. Every lane must call it: it holds barriers.
-inline float solveCellGroup(btoclGroup g, __global const int* batchEnd, __global const btoclConstraint* constraints,
-                        __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
-                        __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
-                        int pass, int flags, int iteration, int numIterations) {
+inline float solveCellGroup(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int pass, int flags,
+                            int iteration, int numIterations) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     float maxResidual2 = 0.0f;
@@ -25,24 +37,21 @@ inline float solveCellGroup(btoclGroup g, __global const int* batchEnd, __global
         const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
         const int end = batchEnd[g.offset + k];
         for (int i = begin + lane; i < end; i += lanes)
-            maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied,
-                                                                    pushApplied, bodies, deltas, pass, flags, iteration,
-                                                                    numIterations));
+            maxResidual2 = fmax(maxResidual2,
+                                btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations));
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
     return maxResidual2;
 }
 
 // One set, one pass: work-group g solves group groups[groupBase + g].
-inline void solveSet(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,
-                     __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
-                     __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
-                     __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
-                     const int pass, int flags, int iteration, int numIterations) {
+inline void solveSet(const btoclSolveBuffers* b, __global const btoclGroup* groups, int groupBase,
+                     __global const int* batchEnd, __global int* control, const int pass, int flags, int iteration,
+                     int numIterations) {
     const int push = pass == BTOCL_PASS_PUSH;
     if (control[push ? BTOCL_CONTROL_PUSH_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
-    const float maxResidual2 = solveCellGroup(groups[groupBase + get_group_id(0)], batchEnd, constraints, rows, normalOfRow,
-                                          applied, pushApplied, bodies, deltas, pass, flags, iteration, numIterations);
+    const float maxResidual2 =
+        solveCellGroup(b, groups[groupBase + get_group_id(0)], batchEnd, pass, flags, iteration, numIterations);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
         atomic_max(control + (push ? BTOCL_CONTROL_PUSH_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
@@ -51,14 +60,10 @@ inline void solveSet(__global const btoclGroup* groups, int groupBase, __global 
 // One kernel per pass, so that the compiler folds the pass's branches away. iteration: the
 // iteration of this pass, of which contact rows take part in the first numIterations (joints
 // with a larger override count go on; kernels/row_solve.h).
-#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                      \
-    __kernel void name(__global const btoclGroup* groups, int groupBase, __global const int* batchEnd,       \
-                       __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,    \
-                       __global const int* normalOfRow, __global float* applied, __global float* pushApplied, \
-                       __global const btoclBody* bodies, __global btoclBodyDelta* deltas,                   \
-                       __global int* control, int flags, int iteration, int numIterations) {               \
-        solveSet(groups, groupBase, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies,  \
-                 deltas, control, PASS, flags, iteration, numIterations);                                    \
+#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                 \
+    __kernel void name(BTOCL_SOLVE_KERNEL_BUFFERS, int groupBase, int flags, int iteration, int numIterations) { \
+        const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;                                         \
+        solveSet(&b, groups, groupBase, batchEnd, control, PASS, flags, iteration, numIterations);        \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
 BTOCL_SOLVE_SET_KERNEL(solvePushRows, BTOCL_PASS_PUSH)
@@ -77,15 +82,11 @@ __kernel void endIteration(__global int* control, float threshold, int push) {
 }
 
 // Every group of one pass, in order (one work-group); returns this lane's largest squared residual.
-inline float solveAllGroups(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                            __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
-                            __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
-                            __global const btoclBody* bodies, __global btoclBodyDelta* deltas, int pass, int flags,
-                            int iteration, int numIterations) {
+inline float solveAllGroups(const btoclSolveBuffers* b, __global const btoclGroup* groups, int numGroups,
+                            __global const int* batchEnd, int pass, int flags, int iteration, int numIterations) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
-        maxResidual2 = fmax(maxResidual2, solveCellGroup(groups[g], batchEnd, constraints, rows, normalOfRow, applied,
-                                                     pushApplied, bodies, deltas, pass, flags, iteration, numIterations));
+        maxResidual2 = fmax(maxResidual2, solveCellGroup(b, groups[g], batchEnd, pass, flags, iteration, numIterations));
     return maxResidual2;
 }
 
@@ -101,20 +102,18 @@ inline int iterationConverged(__local int* groupResidual, float laneResidual2, f
 }
 
 // The pass as a constant in each call, so that the compiler folds its branches away.
-#define BTOCL_BY_PASS(pass, CALL)                                           \
-    ((pass) == BTOCL_PASS_NORMAL     ? CALL(BTOCL_PASS_NORMAL)              \
-     : (pass) == BTOCL_PASS_FRICTION ? CALL(BTOCL_PASS_FRICTION)            \
-     : (pass) == BTOCL_PASS_PUSH     ? CALL(BTOCL_PASS_PUSH)                \
+#define BTOCL_BY_PASS(pass, CALL)                                \
+    ((pass) == BTOCL_PASS_NORMAL     ? CALL(BTOCL_PASS_NORMAL)   \
+     : (pass) == BTOCL_PASS_FRICTION ? CALL(BTOCL_PASS_FRICTION) \
+     : (pass) == BTOCL_PASS_PUSH     ? CALL(BTOCL_PASS_PUSH)     \
                                      : CALL(BTOCL_PASS_WARMSTART))
 
 // A whole step in one launch of one work-group: the passes of the schedule in turn, an iteration
 // of push or velocity passes ending that kind early once its residual is under the threshold
 // (when one is set). Leaves the velocity iterations run in control[BTOCL_CONTROL_ITERATIONS].
-__kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, __global const int* batchEnd,
-                             __global const btoclConstraint* constraints, __global const btoclSolveRow* rows,
-                             __global const int* normalOfRow, __global float* applied, __global float* pushApplied,
-                             __global const btoclBody* bodies, __global btoclBodyDelta* deltas, __global int* control,
-                             int flags, float threshold, btoclPassSchedule schedule) {
+__kernel void solveWholeStep(BTOCL_SOLVE_KERNEL_BUFFERS, int numGroups, int flags, float threshold,
+                             btoclPassSchedule schedule) {
+    const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
     __local int groupResidual;
     if (get_local_id(0) == 0) groupResidual = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -124,9 +123,7 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
     float residual2 = 0.0f;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep p = btoclPassAt(schedule, i);
-#define BTOCL_SOLVE_ALL(PASS)                                                                                   \
-    solveAllGroups(groups, numGroups, batchEnd, constraints, rows, normalOfRow, applied, pushApplied, bodies, \
-                   deltas, PASS, flags, p.iteration, schedule.numIterations)
+#define BTOCL_SOLVE_ALL(PASS) solveAllGroups(&b, groups, numGroups, batchEnd, PASS, flags, p.iteration, schedule.numIterations)
         residual2 = fmax(residual2, BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_ALL));
 #undef BTOCL_SOLVE_ALL
         if (!p.endsIteration) continue;
@@ -141,27 +138,23 @@ __kernel void solveWholeStep(__global const btoclGroup* groups, int numGroups, _
 }
 
 // On a CPU (BTOCL_PREFETCHES) the bodies of the constraint a few ahead are asked for: they lie
-// scattered over more than the cores' caches hold (block 12K: about 3 MB), and the loads at a
-// constraint's start waited for them (btocl_bench --solver ocl, 4 alternating rounds: block 12K's
-// solve 43.7 -> 40.1 ms with 4 ahead, 42.0 with 1, 40.8 with 2, the same as 4 with 6 or 8).
+// scattered over more than the cores' caches hold, and the loads at a constraint's start waited
+// for them (4 ahead measured best; docs/performance.md).
 #define BTOCL_PREFETCH_AHEAD (BTOCL_PREFETCHES ? 4 : 0)
 
 // One group, one pass, one lane: its batches one after another are its constraints in order.
-BTOCL_SOLVE_INLINE float solveCellGroupOneLane(btoclGroup g, __global const btoclConstraint* constraints,
-                                           __global const btoclSolveRow* rows, __global const int* normalOfRow,
-                                           __global float* applied, __global float* pushApplied, __global const btoclBody* bodies,
-                                           __global btoclBodyDelta* deltas, int pass, int flags, int iteration, int numIterations) {
+BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btoclGroup g, int pass, int flags,
+                                               int iteration, int numIterations) {
     float maxResidual2 = 0.0f;
     for (int i = g.offset; i < g.offset + g.count; ++i) {
         if (BTOCL_PREFETCH_AHEAD > 0 && i + BTOCL_PREFETCH_AHEAD < g.offset + g.count) {
-            const btoclConstraint ahead = constraints[i + BTOCL_PREFETCH_AHEAD];
-            BTOCL_PREFETCH(bodies + ahead.bodyA);
-            BTOCL_PREFETCH(deltas + ahead.bodyA);
-            BTOCL_PREFETCH(bodies + ahead.bodyB);
-            BTOCL_PREFETCH(deltas + ahead.bodyB);
+            const btoclConstraint ahead = b->constraints[i + BTOCL_PREFETCH_AHEAD];
+            BTOCL_PREFETCH(b->bodies + ahead.bodyA);
+            BTOCL_PREFETCH(b->deltas + ahead.bodyA);
+            BTOCL_PREFETCH(b->bodies + ahead.bodyB);
+            BTOCL_PREFETCH(b->deltas + ahead.bodyB);
         }
-        maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(constraints + i, rows, normalOfRow, applied, pushApplied,
-                                                                bodies, deltas, pass, flags, iteration, numIterations));
+        maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations));
     }
     return maxResidual2;
 }
@@ -194,11 +187,9 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // setGroupStart: BTOCL_NUM_SETS + 2 ints, read here so that the host need not wait for the
 // split. progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
-    __global const btoclGroup* groups, __global const int* setGroupStart, int numConstraints,
-    __global const btoclConstraint* constraints,
-    __global const btoclSolveRow* rows, __global const int* normalOfRow, __global float* applied,
-    __global float* pushApplied, __global const btoclBody* bodies, __global btoclBodyDelta* deltas,
-    __global int* control, __global int* progress, int flags, float threshold, btoclPassSchedule schedule) {
+    BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numConstraints, int flags,
+    float threshold, btoclPassSchedule schedule) {
+    const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
     int setStart[BTOCL_NUM_SETS + 2];
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
     const int numGroups = setStart[BTOCL_NUM_SETS + 1];
@@ -237,9 +228,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                     for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
                         if (solve) {
                             const btoclGroup g = groups[group];
-#define BTOCL_SOLVE_CLAIMED(PASS)                                                                           \
-    solveCellGroupOneLane(g, constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas, PASS, flags, \
-                          p.iteration, schedule.numIterations)
+#define BTOCL_SOLVE_CLAIMED(PASS) solveCellGroupOneLane(&b, g, PASS, flags, p.iteration, schedule.numIterations)
                             const float groupResidual2 = BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_CLAIMED);
 #undef BTOCL_SOLVE_CLAIMED
                             // Before the group counts as finished: whoever sees it finished sees this.

@@ -33,17 +33,16 @@ SolveRows solveRowsOf(const StepProblem& p) {
 // The iteration and m_numIterations matter to the velocity passes (btoclSolveConstraint).
 float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout, std::vector<float>& applied,
                 std::vector<float>& pushApplied, int pass, int flags, int iteration, int numIterations) {
+    const btoclSolveBuffers b{p.constraints.data(), rows.rows.data(), rows.normalOfRow.data(), applied.data(),
+                              pushApplied.data(), p.bodies.data(), p.deltas.data()};
     float maxResidual2 = 0;
     for (const btoclGroup& g : layout.groups)
         for (int k = 0; k < g.numBatches; ++k) {
             const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
             for (int i = begin; i < end; ++i) {
-                const btoclConstraint& c = p.constraints[size_t(layout.solveOrder[size_t(i)])];
-                maxResidual2 = std::max(maxResidual2,
-                                        btoclSolveConstraint(&c, rows.rows.data(), rows.normalOfRow.data(),
-                                                             applied.data(), pushApplied.data(), p.bodies.data(),
-                                                             p.deltas.data(), pass, flags, iteration, numIterations));
+                const btoclConstraint* c = b.constraints + layout.solveOrder[size_t(i)];
+                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations));
             }
         }
     return maxResidual2;
