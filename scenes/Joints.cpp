@@ -1,6 +1,9 @@
 #include "scenes/Joints.h"
 
+#include "scenes/Stacks.h"
+
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 namespace btscenes {
@@ -137,19 +140,24 @@ btRigidBody* addPendulum(World& w, const btVector3& pivot, btScalar length, btSc
     return b;
 }
 
-std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, btScalar kick) {
-    const btVector3 half(btScalar(0.1), btScalar(0.25), btScalar(0.1));
+std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, const btVector3& kick,
+                                   const ChainStyle& style) {
+    const btVector3& half = style.linkHalf;
     std::vector<btRigidBody*> chain;
     for (int i = 0; i < links; ++i) {
-        BodyOptions o;
-        if (i == links - 1) o.linearVelocity = btVector3(kick, 0, 0);
-        chain.push_back(w.addBox(half, 1, at(top - btVector3(0, btScalar(0.25) + btScalar(0.5) * btScalar(i), 0)), o));
+        BodyOptions o = style.link;
+        o.linearVelocity = i == links - 1 ? kick : btVector3(0, 0, 0);
+        // In this order the benchmark's chains keep their float positions (the tests' are exact).
+        const btScalar y = top.y() - half.y() - 2 * half.y() * btScalar(i);
+        chain.push_back(w.addBox(half, style.linkMass, at(btVector3(top.x(), y, top.z())), o));
     }
-    w.addConstraint(std::make_unique<btPoint2PointConstraint>(*chain[0], btVector3(0, btScalar(0.25), 0)));
+    const btVector3 up(0, half.y(), 0), down(0, -half.y(), 0);  // a link's top and bottom faces
+    if (style.hook)
+        w.addConstraint(std::make_unique<btPoint2PointConstraint>(*style.hook, *chain[0], style.pivotInHook, up));
+    else
+        w.addConstraint(std::make_unique<btPoint2PointConstraint>(*chain[0], up));
     for (int i = 1; i < links; ++i)
-        w.addConstraint(std::make_unique<btPoint2PointConstraint>(*chain[size_t(i) - 1], *chain[size_t(i)],
-                                                                  btVector3(0, btScalar(-0.25), 0),
-                                                                  btVector3(0, btScalar(0.25), 0)));
+        w.addConstraint(std::make_unique<btPoint2PointConstraint>(*chain[size_t(i) - 1], *chain[size_t(i)], down, up));
     return chain;
 }
 
@@ -529,6 +537,81 @@ std::vector<JointKind> addRandomJointScene(World& w, unsigned seed, int clusters
         }
     }
     return kinds;
+}
+
+void groundAndRagdollPile(World& w, int ragdolls) {
+    const BodyOptions surface = roughSurface();
+    // A ragdoll reaches 0.83 m from its centre and lies 0.2 m thick.
+    const int n = std::max(1, ragdolls);
+    const int side = std::max(1, int(std::lround(std::sqrt(double(n) / 16))));
+    const btScalar spacing = 2.0f, layerHeight = 0.45f;
+    w.addGround(surface, btQuaternion::getIdentity(), btScalar(side) * spacing + 20);
+    SceneRandom rng = SceneRandom::fromState(4242u);
+    const btScalar half = 0.5f * spacing * btScalar(side - 1);
+    const btQuaternion faceDown(btVector3(1, 0, 0), SIMD_HALF_PI);
+    for (int k = 0; k < n; ++k) {
+        const int ix = k % side, iz = (k / side) % side, iy = k / (side * side);
+        const btQuaternion yaw(btVector3(0, 1, 0), rng.uniform() * SIMD_2_PI);
+        const btQuaternion tip(btVector3(rng.uniform() - 0.5f, 0, rng.uniform() - 0.5f + 1e-3f).normalized(),
+                               0.05f * rng.uniform());
+        const btVector3 centre(btScalar(ix) * spacing - half + 0.3f * (rng.uniform() - 0.5f),
+                               0.2f + btScalar(iy) * layerHeight,
+                               btScalar(iz) * spacing - half + 0.3f * (rng.uniform() - 0.5f));
+        addRagdoll(w, btTransform(tip * yaw * faceDown, centre), surface);
+    }
+}
+
+void groundAndMachine(World& w, int chains) {
+    const BodyOptions surface = roughSurface();
+    const int n = std::max(1, chains);
+    const int perRow = std::min(n, 8), rows = (n + perRow - 1) / perRow;
+    const btScalar density = 1000, top = 12, rowGap = 4;
+    const btVector3 rodHalf(0.04f, 0.04f, 0.3f);
+    const int links = 12;
+    ChainStyle chain;
+    chain.linkHalf = btVector3(0.05f, 0.2f, 0.05f);
+    chain.linkMass = boxMass(density, chain.linkHalf);
+    chain.link = surface;
+    const btScalar reach = 1.6f, hub = top - 0.4f * btScalar(links) - reach + 0.5f;
+    w.addGround(surface, btQuaternion::getIdentity(), btScalar(std::max(perRow, rows * 4)) + 10);
+    for (int row = 0; row < rows; ++row) {
+        const int units = std::min(perRow, n - row * perRow);
+        const btScalar z = btScalar(row) * rowGap - 0.5f * rowGap * btScalar(rows - 1);
+        const btScalar x0 = -0.5f * btScalar(perRow - 1);
+        const btVector3 beamHalf(0.5f * btScalar(perRow) + 1, 0.1f, 0.1f);
+        btRigidBody* beam = w.addBox(beamHalf, 0, at(btVector3(0, top + 0.1f, z)), surface);
+        chain.hook = beam;
+        for (int i = 0; i < units; ++i) {
+            const btScalar x = x0 + btScalar(i);
+            chain.pivotInHook = btVector3(x, -0.1f, 0);  // the beam's underside
+            const btVector3 kick(0, 0, (row + i) % 2 ? 3.0f : -3.0f);
+            addChain(w, btVector3(x, top, z), links, kick, chain);
+            // The double pendulum, level along z, swinging about x.
+            const btScalar xp = x + 0.5f;
+            const btScalar rodMass = boxMass(density, rodHalf);
+            btRigidBody* rod1 = w.addBox(rodHalf, rodMass, at(btVector3(xp, top - 0.05f, z + 0.3f)), surface);
+            btRigidBody* rod2 = w.addBox(rodHalf, rodMass, at(btVector3(xp, top - 0.05f, z + 0.9f)), surface);
+            w.addConstraint(std::make_unique<btHingeConstraint>(*beam, *rod1, btVector3(xp, -0.1f, 0),
+                                                                btVector3(0, 0.05f, -0.3f), btVector3(1, 0, 0),
+                                                                btVector3(1, 0, 0)));
+            auto elbow = std::make_unique<btHingeConstraint>(*rod1, *rod2, btVector3(0, 0, 0.3f), btVector3(0, 0, -0.3f),
+                                                             btVector3(1, 0, 0), btVector3(1, 0, 0));
+            elbow->setLimit(-2, 2);
+            w.addConstraint(std::move(elbow));
+        }
+        // The paddles: boards across four chains, turning about x at 1.5 rad/s, level at first
+        // (clear of the chains); they strike them on their first quarter turn.
+        for (int first = 0; first < units; first += 4) {
+            const int last = std::min(units, first + 4) - 1;
+            const btScalar x = x0 + 0.5f * btScalar(first + last);
+            const btTransform level(btQuaternion(btVector3(1, 0, 0), SIMD_HALF_PI), btVector3(x, hub, z));
+            const btVector3 paddleHalf(0.5f * btScalar(last - first + 1), reach, 0.08f);
+            btRigidBody* paddle = w.addBox(paddleHalf, boxMass(density, paddleHalf), level, surface);
+            auto axle = std::make_unique<btHingeConstraint>(*paddle, btVector3(0, 0, 0), btVector3(1, 0, 0));
+            axle->enableAngularMotor(true, 1.5f, 500);
+            w.addConstraint(std::move(axle));
+        }
+    }
 }
 
 }  // namespace btscenes

@@ -15,10 +15,24 @@ namespace btscenes {
 // started `angle` radians from the vertical in the x-y plane.
 btRigidBody* addPendulum(World& w, const btVector3& pivot, btScalar length, btScalar angle);
 
-// `links` boxes of 0.2 x 0.5 x 0.2 m, 1 kg, hanging from `top` (a fixed point) in a vertical line,
-// each joined to the next at their touching faces by a point-to-point joint; the lowest starts
-// `kick` m/s sideways. Returns the links, top first.
-std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, btScalar kick = 0);
+// A chain's links, and what its top link hangs from. The defaults are the tests' chains.
+struct ChainStyle {
+    btVector3 linkHalf{btScalar(0.1), btScalar(0.25), btScalar(0.1)};
+    btScalar linkMass = 1;
+    BodyOptions link;              // the links' surface (their velocities are the chain's)
+    btRigidBody* hook = nullptr;   // null: the top link hangs from a fixed point
+    btVector3 pivotInHook{0, 0, 0};  // with a hook: the chain's top, in the hook's frame
+};
+
+// `links` boxes hanging from `top` in a vertical line, each joined to the next at their touching
+// faces by a point-to-point joint; the lowest starts at `kick`. Returns the links, top first.
+std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, const btVector3& kick,
+                                   const ChainStyle& style = {});
+// The tests' chain: links of 0.2 x 0.5 x 0.2 m, 1 kg, from a fixed point; the lowest starts
+// `kick` m/s along x.
+inline std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, btScalar kick = 0) {
+    return addChain(w, top, links, btVector3(kick, 0, 0));
+}
 
 // Every joint type btDiscreteDynamicsWorld accepts (point-to-point, hinge, hinge2, universal,
 // slider, cone-twist, generic 6-DoF, 6-DoF spring and spring2, fixed, gear), to the fixed body, to
@@ -49,5 +63,19 @@ const char* jointKindName(JointKind k);
 // wheels on hinges to the fixed body, geared; the first joint of the others takes each other kind
 // in turn (11 clusters have them all). Returns each joint's kind, in the world's joint order.
 std::vector<JointKind> addRandomJointScene(World& w, unsigned seed, int clusters, int perRow = 4);
+
+// The benchmark's joint scenes, sized by one number (at least 1), each on a ground of its own
+// reaching well past the scene, every body of roughSurface() (Stacks.h).
+
+// `ragdolls` ragdolls lying face down, each turned at random about the vertical and tipped a
+// little, in layers of sqrt(ragdolls / 16) a side 2 m apart (none starts touching another) and
+// 0.45 m above each other: the column settles and slumps into one heap.
+void groundAndRagdollPile(World& w, int ragdolls);
+
+// Rows of eight units under static beams 12 m up, rows 4 m apart, one unit per metre of beam: a
+// chain of 12 links hanging from the beam (its lowest link pushed sideways), and beside it a
+// double pendulum of two rods on hinges, started level. Below every four chains a paddle of 2 t
+// turns on a motor-driven hinge and strikes the chains' ends. Density 1000.
+void groundAndMachine(World& w, int chains);
 
 }  // namespace btscenes

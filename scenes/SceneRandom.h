@@ -11,6 +11,12 @@ namespace btscenes {
 class SceneRandom {
 public:
     explicit SceneRandom(unsigned seed) : m_state(seed * 2654435761u + 12345u) {}
+    // A stream from its raw state rather than a seed (the benchmark's scenes were drawn so).
+    static SceneRandom fromState(unsigned state) {
+        SceneRandom r(0);
+        r.m_state = state;
+        return r;
+    }
     btScalar uniform(btScalar lo = 0, btScalar hi = 1) {  // in [lo, hi)
         m_state = m_state * 1664525u + 1013904223u;
         return lo + (hi - lo) * btScalar((m_state >> 8) & 0xffffffu) / btScalar(16777216);

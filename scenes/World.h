@@ -1,4 +1,4 @@
-// The scenes' Bullet world, which the tests build on: a btDiscreteDynamicsWorld with
+// The scenes' Bullet world, shared by the tests and the benchmark: a btDiscreteDynamicsWorld with
 // its own collision set-up, built around a constraint solver it does not own, owning every shape,
 // body, motion state and joint that a scene puts in it. Two worlds built by the same scene
 // function with the same arguments hold the same bodies and joints in the same order, so body i
