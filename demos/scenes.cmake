@@ -11,13 +11,12 @@ add_executable(btocl_bench
   bench/Quality.cpp
   bench/Raster.cpp
   bench/ScenePicture.cpp
-  bench/SceneWorld.cpp
   bench/Scenes.cpp
   bench/SolverSide.cpp
   bench/TimedSolver.cpp)
 btocl_target_defaults(btocl_bench)
 target_include_directories(btocl_bench PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")  # CliChecks.h, shared with the other demos
-target_link_libraries(btocl_bench PRIVATE bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
+target_link_libraries(btocl_bench PRIVATE btocl_scenes bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
 
 if(BTOCL_BUILD_TESTS)
   set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid ragdolls machine)

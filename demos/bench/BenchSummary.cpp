@@ -112,7 +112,7 @@ std::string summariseRun(const BenchOptions& options, const RunFacts& facts, con
     j["dt"] = options.dt;
     const SolverSide* any = si && si->scene ? si : ours;
     j["bodies"] = any && any->scene ? Json(any->scene->numDynamicBodies()) : Json();
-    j["joints"] = any && any->scene ? Json(any->scene->joints().size()) : Json();
+    j["joints"] = any && any->scene ? Json(any->scene->constraints().size()) : Json();
     j["contactPoints"] = any ? Json(any->lastCounts.contactPoints) : Json();
     j["device"] = facts.deviceName.empty() ? Json() : Json(facts.deviceName);
     j["solvePath"] = facts.solvePath.empty() ? Json() : Json(facts.solvePath);

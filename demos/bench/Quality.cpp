@@ -4,7 +4,7 @@
 
 namespace btbench {
 
-btScalar minContactDistance(SceneWorld& w) {
+btScalar minContactDistance(btscenes::World& w) {
     btScalar minDistance = 0;
     btCollisionDispatcher& d = w.dispatcher();
     for (int m = 0; m < d.getNumManifolds(); ++m) {
@@ -15,11 +15,10 @@ btScalar minContactDistance(SceneWorld& w) {
     return minDistance;
 }
 
-double kineticEnergy(const SceneWorld& w) {
+double kineticEnergy(const btscenes::World& w) {
     double energy = 0;
-    for (const BodyRecord& r : w.bodies()) {
-        if (!r.dynamic) continue;
-        const btRigidBody* b = r.body;
+    for (const btRigidBody* b : w.bodies()) {
+        if (b->isStaticOrKinematicObject()) continue;
         const btVector3 v = b->getLinearVelocity(), omega = b->getAngularVelocity();
         const btScalar mass = b->getInvMass() > 0 ? 1 / b->getInvMass() : 0;
         // The inertia is diagonal in the body frame: w . I w = sum of w_local[k]^2 / invI_local[k].
@@ -34,10 +33,10 @@ double kineticEnergy(const SceneWorld& w) {
     return energy;
 }
 
-std::vector<btVector3> dynamicPositions(const SceneWorld& w) {
+std::vector<btVector3> dynamicPositions(const btscenes::World& w) {
     std::vector<btVector3> out;
-    for (const BodyRecord& r : w.bodies())
-        if (r.dynamic) out.push_back(r.body->getCenterOfMassPosition());
+    for (const btRigidBody* b : w.bodies())
+        if (!b->isStaticOrKinematicObject()) out.push_back(b->getCenterOfMassPosition());
     return out;
 }
 
@@ -47,10 +46,10 @@ btScalar maxDistance(const std::vector<btVector3>& a, const std::vector<btVector
     return worst;
 }
 
-btScalar maxCentreHeight(const SceneWorld& w) {
+btScalar maxCentreHeight(const btscenes::World& w) {
     btScalar top = -BT_LARGE_FLOAT;
-    for (const BodyRecord& r : w.bodies())
-        if (r.dynamic) top = std::max(top, r.body->getCenterOfMassPosition().y());
+    for (const btRigidBody* b : w.bodies())
+        if (!b->isStaticOrKinematicObject()) top = std::max(top, b->getCenterOfMassPosition().y());
     return top;
 }
 
@@ -79,9 +78,9 @@ btScalar jointPivotGap(const btTypedConstraint& joint) {
     }
 }
 
-btScalar maxJointError(const SceneWorld& w) {
+btScalar maxJointError(const btscenes::World& w) {
     btScalar worst = -1;
-    for (const btTypedConstraint* j : w.joints())
+    for (const btTypedConstraint* j : w.constraints())
         if (j->isEnabled()) worst = std::max(worst, jointPivotGap(*j));
     return worst;
 }

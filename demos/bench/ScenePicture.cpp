@@ -13,20 +13,21 @@ btVector3 bodyColour(size_t index) {
     return palette[(index * 7 + index / 6) % (sizeof palette / sizeof palette[0])];
 }
 
-std::vector<RenderBox> boxesOf(const SceneWorld& w, bool dynamicOnly) {
+std::vector<RenderBox> boxesOf(const btscenes::World& w, bool dynamicOnly) {
     std::vector<RenderBox> boxes;
     const auto& bodies = w.bodies();
     for (size_t i = 0; i < bodies.size(); ++i) {
-        if (dynamicOnly && !bodies[i].dynamic) continue;
-        const btVector3 colour = bodies[i].dynamic ? bodyColour(i) : btVector3(0.55f, 0.55f, 0.52f);
-        boxes.push_back({bodies[i].body->getWorldTransform(), bodies[i].halfExtents, colour});
+        const bool dynamic = !bodies[i]->isStaticOrKinematicObject();
+        if (dynamicOnly && !dynamic) continue;
+        const btVector3 colour = dynamic ? bodyColour(i) : btVector3(0.55f, 0.55f, 0.52f);
+        boxes.push_back({bodies[i]->getWorldTransform(), w.halfExtents(i), colour});
     }
     return boxes;
 }
 
 }  // namespace
 
-Image drawWorlds(const std::vector<const SceneWorld*>& worlds, int panelWidth, int panelHeight) {
+Image drawWorlds(const std::vector<const btscenes::World*>& worlds, int panelWidth, int panelHeight) {
     Image image(panelWidth * int(worlds.size() > 0 ? worlds.size() : 1), panelHeight);
     if (worlds.empty()) return image;
     const Camera camera = fitCamera(boxesOf(*worlds[0], true));

@@ -2,13 +2,13 @@
 #pragma once
 
 #include "Raster.h"
-#include "SceneWorld.h"
+#include "scenes/World.h"
 
 #include <vector>
 
 namespace btbench {
 
 // One panel per world, left to right; the camera is fitted to the first world's dynamic boxes.
-Image drawWorlds(const std::vector<const SceneWorld*>& worlds, int panelWidth, int panelHeight);
+Image drawWorlds(const std::vector<const btscenes::World*>& worlds, int panelWidth, int panelHeight);
 
 }  // namespace btbench

@@ -1,30 +1,22 @@
-// The benchmark's scenes: plain functions that fill a SceneWorld with a static ground and
-// dynamic boxes (btBoxShape, mass from density), some joined by joints. Each is sized by one
-// number, `size`, whose meaning the scene's description gives. The same function with the same
-// size always builds the same bodies and joints in the same order.
+// The benchmark's scenes: the scenes library's builders (scenes/Stacks.h, scenes/Joints.h) with
+// the benchmark's surfaces (friction 0.8 everywhere) and grounds, each sized by one number,
+// `size`, whose meaning the scene's description gives. The same scene with the same size always
+// builds the same bodies and joints in the same order.
 #pragma once
 
-#include "SceneWorld.h"
+#include "scenes/World.h"
 
 #include <string>
 #include <vector>
 
 namespace btbench {
 
-void buildPyramid(SceneWorld& w, int baseWidth);       // 2D pyramid, baseWidth boxes at the bottom
-void buildTallStack(SceneWorld& w, int height);        // one column of `height` boxes
-void buildBrickWall(SceneWorld& w, int courses);       // `courses` rows of half-offset bricks
-void buildPile(SceneWorld& w, int count);              // `count` boxes dropped from a lattice
-void buildColumnsCollapse(SceneWorld& w, int count);   // the paper's Figure 1: leaning columns
-void buildBondedBlock(SceneWorld& w, int count);       // dense block, layers offset by half a box
-void buildGridBlock(SceneWorld& w, int count);         // dense block, boxes aligned in a grid
-void buildRagdolls(SceneWorld& w, int count);          // `count` ragdolls dropped onto each other
-void buildMachine(SceneWorld& w, int chains);          // chains, hinged pendulums, motor-driven paddles
+using btscenes::World;
 
 struct SceneInfo {
     const char* name;
     const char* description;
-    void (*build)(SceneWorld&, int size);
+    void (*build)(World&, int size);
     int defaultSize;
     int defaultSteps;
     int smokeSize;          // small enough for a CTest smoke run

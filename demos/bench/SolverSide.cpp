@@ -7,6 +7,14 @@
 
 namespace btbench {
 
+namespace {
+
+// The benchmark's gravity since its first figures (the tests' worlds use 9.81).
+constexpr btScalar kGravity = 10;
+
+}  // namespace
+
+
 std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind kind, const SceneInfo& sceneInfo, int size,
                                            int iterations, const btOpenCLSolverConfig& config) {
     auto side = std::make_unique<SolverSide>();
@@ -26,9 +34,9 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
         return side;
     }
     side->timed = std::make_unique<TimedSolver>(*inner);
-    side->scene = std::make_unique<SceneWorld>(side->timed.get());
-    side->scene->world().getSolverInfo().m_numIterations = iterations;
-    if (kind == SolverKind::BulletSIRandomized) side->scene->world().getSolverInfo().m_solverMode |= SOLVER_RANDMIZE_ORDER;
+    side->scene = std::make_unique<World>(side->timed.get(), kGravity);
+    side->scene->info().m_numIterations = iterations;
+    if (kind == SolverKind::BulletSIRandomized) side->scene->info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
     sceneInfo.build(*side->scene, size);
     side->alive = true;
     return side;
@@ -38,8 +46,7 @@ void stepSolverSide(SolverSide& side, double dt) {
     if (!side.alive) return;
     side.timed->beginStep();
     try {
-        // maxSubSteps 0: exactly one internal step of dt, no interpolation.
-        side.scene->world().stepSimulation(btScalar(dt), 0);
+        side.scene->step(btScalar(dt));  // exactly one internal step of dt, no interpolation
     } catch (const std::exception& e) {
         side.alive = false;
         side.error = "step " + std::to_string(side.stepsDone + 1) + ": " + e.what();

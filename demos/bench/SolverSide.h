@@ -3,7 +3,6 @@
 #pragma once
 
 #include "CountingSISolver.h"
-#include "SceneWorld.h"
 #include "Scenes.h"
 #include "TimedSolver.h"
 
@@ -30,7 +29,7 @@ struct SolverSide {
     std::unique_ptr<CountingSISolver> si;
     std::unique_ptr<btOpenCLConstraintSolver> ocl;
     std::unique_ptr<TimedSolver> timed;
-    std::unique_ptr<SceneWorld> scene;
+    std::unique_ptr<World> scene;
 
     bool alive = false;       // false once the solver threw (the world is not stepped again)
     std::string error;        // what it threw, or why it could not be made

@@ -27,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void drawFrame(const std::vector<SolverSide*>& sides, const std::string& file, int frame, RunFacts& facts) {
-    std::vector<const SceneWorld*> worlds;
+    std::vector<const World*> worlds;
     facts.pngPanels.clear();
     for (SolverSide* s : sides)
         if (s && s->alive) {
