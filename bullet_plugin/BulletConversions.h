@@ -1,8 +1,11 @@
-// Bullet's vectors to and from the kernels' float4 records.
+// Bullet's vectors and bodies to and from the kernels' records.
 #pragma once
 
+#include "SolveSettings.h"
 #include "btocl_shared.h"
 
+#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btVector3.h>
 
 #include <cmath>
@@ -12,5 +15,60 @@ namespace btocl {
 inline btoclFloat4 toFloat4(const btVector3& v, float w = 0) { return {v.x(), v.y(), v.z(), w}; }
 inline btVector3 toVector3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
 inline bool isFinite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// A rigid body as SI's solver body holds it (initSolverBody): inverse mass and linear factor,
+// angular factor, world inverse inertia, velocities; no centre or external impulses (the gather
+// adds them). solverBody: the body has a solver body of its own (w lanes: dynamic, rigid); false
+// for a static body that a joint reads as SI's convertJoint reads it, while the solve's fixed
+// body stands for it.
+inline btoclBody bodyRecordOf(const btRigidBody& rb, bool solverBody) {
+    btoclBody b{};
+    const btScalar invMass = rb.getInvMass();
+    b.invMass = toFloat4(btVector3(invMass, invMass, invMass) * rb.getLinearFactor(),
+                         solverBody && invMass != 0 ? 1.f : 0.f);
+    b.linearFactor = toFloat4(rb.getLinearFactor(), invMass);
+    b.angularFactor = toFloat4(rb.getAngularFactor(), solverBody ? 1.f : 0.f);
+    const btMatrix3x3& I = rb.getInvInertiaTensorWorld();
+    b.invInertiaRow0 = toFloat4(I[0]);
+    b.invInertiaRow1 = toFloat4(I[1]);
+    b.invInertiaRow2 = toFloat4(I[2]);
+    b.linearVelocity = toFloat4(rb.getLinearVelocity());
+    b.angularVelocity = toFloat4(rb.getAngularVelocity());
+    return b;
+}
+
+// What the iterations read of a btContactSolverInfo. rotatePoints: each iteration starts a
+// manifold's points at another one (btOpenCLSolverConfig).
+inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints) {
+    SolveSettings s;
+    s.numIterations = info.m_numIterations;
+    s.residualThreshold = info.m_leastSquaresResidualThreshold;
+    s.usePush = info.m_splitImpulse != 0;
+    s.warmStart = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
+    // SI's SIMD row update scales by the factors once (in the row); its scalar one twice.
+    if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
+    if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
+    if (rotatePoints) s.flags |= BTOCL_FLAG_ROTATE_POINTS;
+    return s;
+}
+
+// What the contact row setup reads of a btContactSolverInfo (kernels/row_setup.h).
+inline btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPoints) {
+    btoclSetupParams prm{};
+    prm.timeStep = info.m_timeStep;
+    prm.invTimeStep = btScalar(1) / info.m_timeStep;
+    prm.sor = info.m_sor;
+    prm.globalCfm = info.m_globalCfm;
+    prm.erp2 = info.m_erp2;
+    prm.linearSlop = info.m_linearSlop;
+    prm.restitutionVelocityThreshold = info.m_restitutionVelocityThreshold;
+    prm.warmstartingFactor = info.m_warmstartingFactor;
+    prm.pushThreshold = info.m_splitImpulsePenetrationThreshold;
+    prm.frictionERP = info.m_frictionERP;
+    prm.usePush = info.m_splitImpulse;
+    prm.solverMode = info.m_solverMode;
+    prm.numPoints = numPoints;
+    return prm;
+}
 
 }  // namespace btocl

@@ -68,24 +68,6 @@ bool hasAnisotropicFriction(const btCollisionObject* o) {
                                      btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
 }
 
-btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPoints) {
-    btoclSetupParams prm{};
-    prm.timeStep = info.m_timeStep;
-    prm.invTimeStep = btScalar(1) / info.m_timeStep;
-    prm.sor = info.m_sor;
-    prm.globalCfm = info.m_globalCfm;
-    prm.erp2 = info.m_erp2;
-    prm.linearSlop = info.m_linearSlop;
-    prm.restitutionVelocityThreshold = info.m_restitutionVelocityThreshold;
-    prm.warmstartingFactor = info.m_warmstartingFactor;
-    prm.pushThreshold = info.m_splitImpulsePenetrationThreshold;
-    prm.frictionERP = info.m_frictionERP;
-    prm.usePush = info.m_splitImpulse;
-    prm.solverMode = info.m_solverMode;
-    prm.numPoints = numPoints;
-    return prm;
-}
-
 }  // namespace
 
 void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
@@ -94,15 +76,16 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     m_manifolds.clear();
     m_joints.clear();
     StepProblem& p = m_problem;
-    p.original.assign(1, nullptr);
+    m_bullet.original.assign(1, nullptr);
     p.bodies.assign(1, btoclBody{});
     p.deltas.assign(1, btoclBodyDelta{});
-    p.worldTransforms.assign(1, btTransform::getIdentity());
+    m_bullet.worldTransforms.assign(1, btTransform::getIdentity());
     p.splitBodies.assign(1, SplitBody{});
     // constraints, manifoldOfConstraint, points and manifoldPoints are sized and overwritten by
     // packManifolds: kept here, they are neither zeroed nor fresh memory every step.
     p.rows.clear();
-    p.joints = JointRowSet{};
+    m_bullet.joints = JointRowSet{};
+    p.jointIterations = 0;
     p.regions = btoclRowRegionsOf(0, 0, 0, 0);
     p.mayNeedPush = false;
     p.setupParams = setupParamsOf(info, 0);  // the point count once they are packed
@@ -112,26 +95,18 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
 }
 
 // SI's initSolverBody and the external impulses of convertBodies, for the body at `index`
-// (its slots made, its object in p.original).
+// (its slots made, its object in m_bullet.original).
 void StepGatherer::fillSolverBody(int index) {
     StepProblem& p = m_problem;
-    btRigidBody* rb = p.original[size_t(index)];
+    btRigidBody* rb = m_bullet.original[size_t(index)];
     const btScalar dt = m_info.m_timeStep;
     checkRigidBody(*rb);
     const btTransform& xf = rb->getWorldTransform();
 
-    btoclBody b{};
+    btoclBody b = bodyRecordOf(*rb, true);
     const btScalar invMass = rb->getInvMass();
-    b.invMass = toFloat4(btVector3(invMass, invMass, invMass) * rb->getLinearFactor(), invMass != 0 ? 1.f : 0.f);
-    b.linearFactor = toFloat4(rb->getLinearFactor(), invMass);
-    b.angularFactor = toFloat4(rb->getAngularFactor(), 1.f);
     const btMatrix3x3& I = rb->getInvInertiaTensorWorld();
-    b.invInertiaRow0 = toFloat4(I[0]);
-    b.invInertiaRow1 = toFloat4(I[1]);
-    b.invInertiaRow2 = toFloat4(I[2]);
     b.centerOfMass = toFloat4(xf.getOrigin());
-    b.linearVelocity = toFloat4(rb->getLinearVelocity());
-    b.angularVelocity = toFloat4(rb->getAngularVelocity());
     b.externalForceImpulse = toFloat4(rb->getTotalForce() * invMass * dt);
     btVector3 torqueImpulse = rb->getTotalTorque() * I * dt;
     if (invMass != 0) {  // gyroscopic terms, as SI's convertBodies
@@ -154,30 +129,30 @@ void StepGatherer::fillSolverBody(int index) {
     }
     p.bodies[size_t(index)] = b;
     p.deltas[size_t(index)] = btoclBodyDelta{};
-    p.worldTransforms[size_t(index)] = xf;
+    m_bullet.worldTransforms[size_t(index)] = xf;
     p.splitBodies[size_t(index)] = split;
 }
 
 // Slots for the bodies named since the last call, then their records, in parallel.
 void StepGatherer::fillNewBodies() {
     StepProblem& p = m_problem;
-    const size_t first = p.bodies.size(), end = p.original.size();
+    const size_t first = p.bodies.size(), end = m_bullet.original.size();
     p.bodies.resize(end);
     p.deltas.resize(end);
-    p.worldTransforms.resize(end);
+    m_bullet.worldTransforms.resize(end);
     p.splitBodies.resize(end);
     parallelFor(end - first, [&](size_t i) {
         // A rigid body's record lies in a few cache lines of its own: asked for a few bodies ahead.
         const size_t ahead = first + i + kPrefetchAhead;
-        if (ahead < end) prefetchBytes(p.original[ahead], sizeof(btRigidBody));
+        if (ahead < end) prefetchBytes(m_bullet.original[ahead], sizeof(btRigidBody));
         fillSolverBody(int(first + i));
     }, kRigidBodyWeight);
 }
 
 // Names the solver body of a rigid body; its record is filled by fillNewBodies.
 int StepGatherer::nameSolverBody(btRigidBody* rb) {
-    const int index = int(m_problem.original.size());
-    m_problem.original.push_back(rb);
+    const int index = int(m_bullet.original.size());
+    m_bullet.original.push_back(rb);
     rb->setCompanionId(index);
     return index;
 }
@@ -199,7 +174,7 @@ int StepGatherer::namedBodyOf(btCollisionObject* object) {
 // still to be named. Reads only: safe in parallel.
 int StepGatherer::knownBodyOf(const btCollisionObject* object) const {
     const int id = object->getCompanionId();
-    if (id > 0 && id < int(m_problem.original.size()) && m_problem.original[size_t(id)] == object) return id;
+    if (id > 0 && id < int(m_bullet.original.size()) && m_bullet.original[size_t(id)] == object) return id;
     const btRigidBody* rb = btRigidBody::upcast(object);
     if (rb && (rb->getInvMass() != 0 || rb->isKinematicObject())) return -1;
     return 0;
@@ -232,17 +207,18 @@ void StepGatherer::addJointRows() {
             bodies[i].bodyA = solverBodyOf(&m_joints[i]->getRigidBodyA());
             bodies[i].bodyB = solverBodyOf(&m_joints[i]->getRigidBodyB());
         }
-    p.joints = setUpJointRows(m_joints.data(), int(m_joints.size()), bodies.data(), p.bodies, m_info);
+    m_bullet.joints = setUpJointRows(m_joints.data(), int(m_joints.size()), bodies.data(), p.bodies, m_info);
+    p.jointIterations = m_bullet.joints.rows.empty() ? 0 : m_bullet.joints.maxIterations;
     p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
-                                  p.numRowsOf(BTOCL_ROWS_ROLLING), int(p.joints.rows.size()));
-    for (btoclConstraint c : p.joints.constraints) {
+                                  p.numRowsOf(BTOCL_ROWS_ROLLING), int(m_bullet.joints.rows.size()));
+    for (btoclConstraint c : m_bullet.joints.constraints) {
         c.firstRow[BTOCL_ROWS_JOINT] += p.rowStart(BTOCL_ROWS_JOINT);
         p.constraints.push_back(c);
-        p.manifoldOfConstraint.push_back(nullptr);
+        m_bullet.manifoldOfConstraint.push_back(nullptr);
     }
     for (size_t b = 0; b < p.splitBodies.size(); ++b)
-        p.splitBodies[b].extent = std::max(p.splitBodies[b].extent, p.joints.splitExtent[b]);
-    p.rows.insert(p.rows.end(), p.joints.rows.begin(), p.joints.rows.end());
+        p.splitBodies[b].extent = std::max(p.splitBodies[b].extent, m_bullet.joints.splitExtent[b]);
+    p.rows.insert(p.rows.end(), m_bullet.joints.rows.begin(), m_bullet.joints.rows.end());
 }
 
 // Two bodies that cannot move are left out (SI tests the inverse-mass vectors). Reads the
@@ -324,13 +300,13 @@ void StepGatherer::packManifold(size_t m) {
         pt.firstFrictionRow = p.firstFrictionRowOf(point, frictionRows);
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
         p.points[size_t(point)] = pt;
-        p.manifoldPoints[size_t(point)] = &cp;
+        m_bullet.manifoldPoints[size_t(point)] = &cp;
         ++point;
         if (pt.firstRollingRow >= 0) rolling += 3;
     }
     c.position = toFloat4(pointSum / btScalar(slot.numPoints));
     p.constraints[size_t(slot.constraint)] = c;
-    p.manifoldOfConstraint[size_t(slot.constraint)] = manifold;
+    m_bullet.manifoldOfConstraint[size_t(slot.constraint)] = manifold;
 }
 
 // Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
@@ -379,9 +355,9 @@ void StepGatherer::packManifolds() {
     }
     p.regions = btoclRowRegionsOf(numPoints, numPoints * frictionRows, numRolling, 0);
     resizeForOverwrite(p.points, size_t(numPoints));
-    resizeForOverwrite(p.manifoldPoints, size_t(numPoints));
+    resizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
     resizeForOverwrite(p.constraints, size_t(numConstraints));
-    resizeForOverwrite(p.manifoldOfConstraint, size_t(numConstraints));
+    resizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints));
 
     parallelFor(numManifolds, [&](size_t m) {
         const size_t ahead = m + kPrefetchAhead;
@@ -397,13 +373,13 @@ StepProblem& StepGatherer::finish() {
     p.rowsOnDevice = m_setup == RowSetup::Device;
     packManifolds();  // also sets up the rows on the host where a body has anisotropic friction
     p.setupParams.numPoints = int(p.points.size());
-    if (!p.rowsOnDevice) setupRowsOnHost(p);
+    if (!p.rowsOnDevice) setupRowsOnHost(p, m_bullet);
     if (!m_joints.empty()) addJointRows();
     return p;
 }
 
 void StepGatherer::releaseBodies() {
-    for (size_t i = 1; i < m_problem.original.size(); ++i) m_problem.original[i]->setCompanionId(-1);
+    for (size_t i = 1; i < m_bullet.original.size(); ++i) m_bullet.original[i]->setCompanionId(-1);
 }
 
 }  // namespace btocl

@@ -1,9 +1,11 @@
 // Gathers one step from Bullet: the bodies and manifolds that btDiscreteDynamicsWorld passes to
-// solveGroup (one or more calls per step), as the records of a StepProblem. Reads Bullet's
+// solveGroup (one or more calls per step), as the records of a StepProblem and, beside them, the
+// Bullet objects they came from (BulletStep). Reads Bullet's
 // objects and writes nothing back but each solver body's companion id (as SI does); everything
 // else a step changes is written by writeBackStep (StepWriteBack.h) once the solve succeeded.
 #pragma once
 
+#include "BulletStep.h"
 #include "StepProblem.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
@@ -31,8 +33,10 @@ public:
     // Joints (btTypedConstraint); disabled ones take no rows, as with SI.
     void addJoints(btTypedConstraint* const* joints, int numJoints);
     // Packs every manifold's points (and, for host setup, sets the rows up) and returns the
-    // finished problem. Throws InputError on a non-finite contact point.
+    // finished problem; bullet() holds where its records came from. Throws InputError on a
+    // non-finite contact point.
     StepProblem& finish();
+    const BulletStep& bullet() const { return m_bullet; }
     // The problem's host arrays take their storage from `source` (PinnedHostMemory on a GPU;
     // null: the heap). It must outlive this gatherer or be replaced first.
     void useHostMemory(HostMemorySource* source) { m_problem.takeHostMemoryFrom(source); }
@@ -73,6 +77,7 @@ private:
     std::vector<btPersistentManifold*> m_manifolds;
     std::vector<btTypedConstraint*> m_joints;
     StepProblem m_problem;
+    BulletStep m_bullet;
     std::vector<ManifoldSlot> m_slots;  // one per manifold, reused from step to step
 };
 

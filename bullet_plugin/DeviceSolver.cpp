@@ -199,12 +199,10 @@ std::vector<btoclRow> DeviceSolver::downloadRows(const StepProblem& p) const {
         btoclRow& r = rows[g];
         const int kind = btoclKindOfRow(&p.regions, int(g));
         r.frictionIndex = kind == BTOCL_ROWS_FRICTION || kind == BTOCL_ROWS_ROLLING ? unmap[size_t(normalOf[at])] : -1;
-        if (kind == BTOCL_ROWS_JOINT) {
-            for (const StepJoint& j : p.joints.joints)
-                if (int(g) - p.rowStart(BTOCL_ROWS_JOINT) >= j.firstRow && int(g) - p.rowStart(BTOCL_ROWS_JOINT) < j.firstRow + j.numRows) {
-                    r.bodyA = j.bodyA;
-                    r.bodyB = j.bodyB;
-                }
+        if (kind == BTOCL_ROWS_JOINT) {  // set up on the host: their bodies are in p.rows
+            const btoclRow& hostRow = p.rows[g - size_t(p.hostRowBase())];
+            r.bodyA = hostRow.bodyA;
+            r.bodyB = hostRow.bodyB;
         } else {
             const btoclContactPoint& pt = p.points[size_t(kind == BTOCL_ROWS_NORMAL ? int(g) : r.frictionIndex)];
             r.bodyA = pt.bodyA;

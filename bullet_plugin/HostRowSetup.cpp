@@ -24,7 +24,7 @@ btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direct
 
 }  // namespace
 
-void setupRowsOnHost(StepProblem& p) {
+void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
@@ -33,7 +33,7 @@ void setupRowsOnHost(StepProblem& p) {
     std::vector<btoclRow> rolling;
     for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
         btoclConstraint& c = p.constraints[ci];
-        const btPersistentManifold* m = p.manifoldOfConstraint[ci];
+        const btPersistentManifold* m = bullet.manifoldOfConstraint[ci];
         c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size());
         const int firstPoint = c.firstRow[BTOCL_ROWS_NORMAL];
         for (int i = firstPoint; i < firstPoint + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {

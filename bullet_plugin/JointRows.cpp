@@ -23,19 +23,7 @@ namespace {
 // body stands for every static object, but SI reads the static body itself (its own velocity
 // and inertia, usually zero) and no external impulses: so does this record.
 btoclBody jointSide(const btRigidBody& rb, int index, const HostArray<btoclBody>& solverBodies) {
-    if (index != 0) return solverBodies[size_t(index)];
-    btoclBody b = solverBodies[0];
-    const btScalar invMass = rb.getInvMass();
-    b.invMass = toFloat4(btVector3(invMass, invMass, invMass) * rb.getLinearFactor(), 0.f);
-    b.linearFactor = toFloat4(rb.getLinearFactor(), invMass);
-    b.angularFactor = toFloat4(rb.getAngularFactor(), 0.f);  // w 0: not a body of the solver
-    const btMatrix3x3& I = rb.getInvInertiaTensorWorld();
-    b.invInertiaRow0 = toFloat4(I[0]);
-    b.invInertiaRow1 = toFloat4(I[1]);
-    b.invInertiaRow2 = toFloat4(I[2]);
-    b.linearVelocity = toFloat4(rb.getLinearVelocity());
-    b.angularVelocity = toFloat4(rb.getAngularVelocity());
-    return b;
+    return index != 0 ? solverBodies[size_t(index)] : bodyRecordOf(rb, false);
 }
 
 // The joint's rows as getInfo2 leaves them, exactly as SI's convertJoint prepares them: cleared,

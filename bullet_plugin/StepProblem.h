@@ -1,45 +1,36 @@
 // What one step solves: solver bodies, constraints and their contact points (or rows set up on
-// the host), in the flat records that the kernels read (kernels/btocl_shared.h). Filled by
-// StepGatherer (BulletGather.h), solved by DeviceSolver, written back by writeBackStep.
+// the host), in the flat records that the kernels read (kernels/btocl_shared.h). Plain data: no
+// Bullet type, so that the device side, which takes it, cannot see Bullet; where each record came
+// from in Bullet is the gather's BulletStep (BulletStep.h). Filled by StepGatherer
+// (BulletGather.h), solved by DeviceSolver, written back by writeBackStep.
 #pragma once
 
 #include "HostArray.h"
-#include "JointRows.h"
 #include "SplitPlan.h"
 #include "btocl_shared.h"
 
-#include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
-#include <LinearMath/btTransform.h>
-
+#include <algorithm>
 #include <vector>
-
-class btManifoldPoint;
-class btPersistentManifold;
-class btRigidBody;
 
 namespace btocl {
 
 struct StepProblem {
     // Per solver body. Index 0 is the fixed body that every static object maps to (as SI's).
-    std::vector<btRigidBody*> original;      // null for the fixed body
     HostArray<btoclBody> bodies;  // HostArray: read in place by a device on the host's memory
     HostArray<btoclBodyDelta> deltas;  // zero here; the solve fills them (in place, as `bodies`)
-    std::vector<btTransform> worldTransforms;
     std::vector<SplitBody> splitBodies;
 
     // One constraint per manifold that has points in reach, then one per joint with rows; the
     // rows of each kind contiguous, in their regions of gather order (btoclRowRegions).
     std::vector<btoclConstraint> constraints;
-    std::vector<btPersistentManifold*> manifoldOfConstraint;  // null for a joint
     btoclRowRegions regions = btoclRowRegionsOf(0, 0, 0, 0);
-
-    // The step's joints and their rows, set up on the host as SI sets them up (JointRows.h).
-    JointRowSet joints;
+    // The most velocity iterations a joint with rows asks for (SI's override, else
+    // m_numIterations; 0 without joints).
+    int jointIterations = 0;
 
     // One record per contact point; normal row i is point i. kernels/setup.cl sets the rows up
     // from them on the device ...
     HostArray<btoclContactPoint> points;
-    std::vector<btManifoldPoint*> manifoldPoints;  // the btManifoldPoint of each point
     btoclSetupParams setupParams{};
     // Some point may give its normal row a push share (btoclPointMayNeedPush): the push
     // iterations then run (passScheduleOf, StepPlan.h).
@@ -66,6 +57,7 @@ struct StepProblem {
         moveToSource(lateralDirs, source);
     }
 
+    int numBodies() const { return int(bodies.size()) - 1; }  // the fixed body left out
     int rowStart(int kind) const { return regions.start[kind]; }
     int numRowsOf(int kind) const { return btoclRegionRows(&regions, kind); }
     int numRows() const { return regions.start[BTOCL_NUM_ROW_KINDS]; }
@@ -75,7 +67,7 @@ struct StepProblem {
     // in point order, as the gather lays them out.
     int firstFrictionRowOf(int point, int frictionRows) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRows; }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
-    int maxIterations(int numIterations) const { return joints.rows.empty() ? numIterations : joints.maxIterations; }
+    int maxIterations(int numIterations) const { return std::max(numIterations, jointIterations); }
 };
 
 }  // namespace btocl

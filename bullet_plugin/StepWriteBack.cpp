@@ -12,7 +12,7 @@ namespace btocl {
 namespace {
 
 // One walk over the manifold points (scattered in memory, so a few are fetched ahead).
-void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
+void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
     const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     // As SI: plane-space directions with two directions and no velocity dependence are kept.
@@ -22,8 +22,8 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
     // from the point's record (a cache line a point, for 4 bytes).
     const int frictionRows = two ? 2 : 1;
     parallelFor(n, [&](size_t i) {
-        if (i + 8 < n) prefetchBytes(p.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
-        btManifoldPoint* pt = p.manifoldPoints[i];
+        if (i + 8 < n) prefetchBytes(bullet.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
+        btManifoldPoint* pt = bullet.manifoldPoints[i];
         if (impulses) {
             const size_t f = size_t(p.firstFrictionRowOf(int(i), frictionRows));
             pt->m_appliedImpulse = p.appliedImpulses[i];
@@ -38,10 +38,10 @@ void writeBackPoints(const StepProblem& p, const btContactSolverInfo& info) {
 }
 
 // Velocities, push transforms and companion ids of the solver bodies (0 is the fixed body).
-void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
-    parallelFor(p.original.size() - 1, [&](size_t k) {
+void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
+    parallelFor(size_t(p.numBodies()), [&](size_t k) {
         const size_t i = k + 1;
-        btRigidBody* rb = p.original[i];
+        btRigidBody* rb = bullet.original[i];
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
         const btVector3 linear = toVector3(b.linearVelocity) + toVector3(d.deltaLinearVelocity);
@@ -52,7 +52,7 @@ void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
             const btVector3 push = toVector3(d.pushVelocity), turn = toVector3(d.turnVelocity);
             if (!push.isZero() || !turn.isZero()) {
                 btTransform next;
-                btTransformUtil::integrateTransform(p.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,
+                btTransformUtil::integrateTransform(bullet.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,
                                                     info.m_timeStep, next);
                 rb->setWorldTransform(next);
             }
@@ -63,10 +63,10 @@ void writeBackBodies(const StepProblem& p, const btContactSolverInfo& info) {
 
 }  // namespace
 
-void writeBackStep(const StepProblem& p, const btContactSolverInfo& info) {
-    writeBackPoints(p, info);
-    writeBackJoints(p.joints, p.appliedImpulses.data() + p.rowStart(BTOCL_ROWS_JOINT), info);
-    writeBackBodies(p, info);
+void writeBackStep(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
+    writeBackPoints(p, bullet, info);
+    writeBackJoints(bullet.joints, p.appliedImpulses.data() + p.rowStart(BTOCL_ROWS_JOINT), info);
+    writeBackBodies(p, bullet, info);
 }
 
 }  // namespace btocl

@@ -3,6 +3,7 @@
 // bodies' companion ids.
 #pragma once
 
+#include "BulletStep.h"
 #include "StepProblem.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
@@ -12,6 +13,6 @@ namespace btocl {
 // Velocities (and push transforms) of the bodies, applied impulses of the points (with
 // warm starting, as SI), their friction directions and flags, the joints' applied impulses,
 // feedback and breaking (JointWriteBack.h). Releases the bodies' companion ids.
-void writeBackStep(const StepProblem& p, const btContactSolverInfo& info);
+void writeBackStep(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info);
 
 }  // namespace btocl

@@ -10,6 +10,7 @@
 #include "PinnedHostMemory.h"
 #include "SolveSettings.h"
 #include "StepPolicy.h"
+#include "BulletConversions.h"
 #include "BulletFallback.h"
 #include "BulletGather.h"
 #include "StepWriteBack.h"
@@ -147,7 +148,7 @@ struct btOpenCLConstraintSolver::Impl {
         try {
             btocl::StepProblem& p = gatherer.finish();
             const btContactSolverInfo& info = gatherer.info();
-            const btocl::SolveSettings settings = btocl::SolveSettings::from(info, config.rotatePoints);
+            const btocl::SolveSettings settings = btocl::solveSettingsOf(info, config.rotatePoints);
             const btocl::StepPlan step = btocl::planStep(plan, p, settings);
             s.msGather = msGatherCalls + timer.lap();
             btocl::checkStepFitsDevice(btocl::countsOf(p), limits);  // before the first enqueue
@@ -186,7 +187,7 @@ struct btOpenCLConstraintSolver::Impl {
             s.msDevice = timer.lap();
             fillDeviceStats(s, p, step.oneGroup());
 
-            btocl::writeBackStep(p, info);
+            btocl::writeBackStep(p, gatherer.bullet(), info);
             s.msWriteback = timer.lap();
             s.deviceBytes = double(runtime.bufferBytes());
 
@@ -226,7 +227,7 @@ struct btOpenCLConstraintSolver::Impl {
     }
 
     static void fillCounts(btOpenCLSolverStats& s, const btocl::StepProblem& p) {
-        s.numBodies = int(p.original.size()) - 1;
+        s.numBodies = p.numBodies();
         s.numContactPoints = p.numContactPoints();
         s.numConstraintRows = p.numRows();
         s.numJointRows = p.numJointRows();

@@ -2,6 +2,7 @@
 // device-solve and row-setup tests share.
 #pragma once
 
+#include "BulletConversions.h"
 #include "BulletGather.h"
 #include "DeviceSolver.h"
 #include "PinnedHostMemory.h"
@@ -16,8 +17,13 @@
 
 namespace btocl::test {
 
-// One step's problem, gathered from the world's bodies, manifolds and joints as they are.
-inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
+// One step gathered from the world's bodies, manifolds and joints as they are: the records, and
+// the Bullet objects they came from.
+struct GatheredStep {
+    StepProblem problem;
+    BulletStep bullet;
+};
+inline GatheredStep gatherStep(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
     StepGatherer builder;
     builder.begin(info, setup);
     btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
@@ -26,9 +32,12 @@ inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo&
     builder.addManifolds(manifolds.data(), int(manifolds.size()));
     std::vector<btTypedConstraint*> joints = w.constraints();
     builder.addJoints(joints.data(), int(joints.size()));
-    StepProblem p = builder.finish();
+    GatheredStep g{builder.finish(), builder.bullet()};
     builder.releaseBodies();
-    return p;
+    return g;
+}
+inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
+    return gatherStep(w, info, setup).problem;
 }
 
 // How the step's host arrays reach the device: handed over in place where it works in the

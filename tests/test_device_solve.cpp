@@ -62,7 +62,7 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     REQUIRE(host.numContactPoints() > 100);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info, rotate);
+    const SolveSettings settings = solveSettingsOf(info, rotate);
 
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, launch);
@@ -87,7 +87,7 @@ TEST_CASE("results handed back in place equal results copied back", "[solve]") {
     REQUIRE(inPlace.numContactPoints() > 100);
     StepProblem copied = inPlace, pinned = inPlace;
     const BatchLayout layout = buildSerialLayout(int(inPlace.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info, true);
+    const SolveSettings settings = solveSettingsOf(info, true);
     solveOnDevice(inPlace, layout, settings, nullptr, StepMode::WholeStep);
     solveOnDevice(copied, layout, settings, nullptr, StepMode::WholeStep, Transfers::Copied);
     solveOnDevice(pinned, layout, settings, nullptr, StepMode::WholeStep, Transfers::CopiedFromPinned);
@@ -116,7 +116,7 @@ TEST_CASE("a residual threshold stops the device iterations where the host refer
     StepProblem host = gatherPileProblem(w, info);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = SolveSettings::from(info, true);
+    const SolveSettings settings = solveSettingsOf(info, true);
     REQUIRE((settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0);
     const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
     CAPTURE(int(launch));
@@ -151,7 +151,7 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     constraints.write(rt, host.constraints);
     SplitParams params;
     params.cellSize = 4.0f;  // cells of a few boxes: many groups in every set, some long
-    const SolveSettings settings = SolveSettings::from(info, true);
+    const SolveSettings settings = solveSettingsOf(info, true);
     batcher.build(constraints, int(host.constraints.size()), host.splitBodies, params,
                   testPlan(StepMode::PerSet, passScheduleOf(settings, host)));
     const BatchLayout layout = batcher.download();
@@ -183,13 +183,13 @@ TEST_CASE("joints that ask for more iterations than the contacts get are solved 
     StepProblem host = gatherProblem(w, info, RowSetup::Host);
     REQUIRE(host.numJointRows() > 0);
     REQUIRE(host.numContactPoints() > 0);
-    const SolveSettings settings = SolveSettings::from(info, false);
+    const SolveSettings settings = solveSettingsOf(info, false);
     REQUIRE(passScheduleOf(settings, host).maxIterations == 30);
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
     StepProblem shortRun = host;  // the joints cut to the contacts' 4 iterations
     for (btoclConstraint& c : shortRun.constraints)
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) BTOCL_CONSTRAINT_ITERATIONS(c) = float(settings.numIterations);
-    shortRun.joints.maxIterations = settings.numIterations;
+    shortRun.jointIterations = settings.numIterations;
     REQUIRE(passScheduleOf(settings, shortRun).maxIterations == 4);
     solveOnHost(shortRun, layout, settings);
     StepProblem dev = host;

@@ -42,6 +42,7 @@ public:
 // two solver bodies (a kinematic one may join here), then the rows from the finished records.
 struct GatheredJoints {
     StepProblem problem;
+    std::vector<btRigidBody*> original;  // per solver body (BulletStep::original)
     JointRowSet joints;
 };
 
@@ -57,6 +58,7 @@ GatheredJoints gatherJoints(btCollisionObject** objects, int numObjects, btPersi
         bodies[size_t(i)] = {g.solverBodyOf(&joints[i]->getRigidBodyA()), g.solverBodyOf(&joints[i]->getRigidBodyB())};
     GatheredJoints out;
     out.problem = g.finish();
+    out.original = g.bullet().original;
     out.joints = setUpJointRows(joints, numJoints, bodies.data(), out.problem.bodies, info);
     g.releaseBodies();
     return out;
@@ -71,10 +73,10 @@ GatheredJoints gatherJoints(World& w, std::vector<btTypedConstraint*>& joints, c
 
 // The largest relative gap between one of SI's joint rows and ours over every field the solve
 // reads; `same` is cleared when they differ in bodies or iteration count.
-float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const StepProblem& p,
-             bool& same) {
-    if (bullet.body(si.m_solverBodyIdA).m_originalBody != p.original[size_t(r.bodyA)] ||
-        bullet.body(si.m_solverBodyIdB).m_originalBody != p.original[size_t(r.bodyB)] ||
+float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet,
+             const std::vector<btRigidBody*>& original, bool& same) {
+    if (bullet.body(si.m_solverBodyIdA).m_originalBody != original[size_t(r.bodyA)] ||
+        bullet.body(si.m_solverBodyIdB).m_originalBody != original[size_t(r.bodyB)] ||
         si.m_overrideNumSolverIterations != BTOCL_ROW_ITERATIONS(r) || r.frictionIndex != -1)
         same = false;
     return fieldGap(si, r);
@@ -129,7 +131,7 @@ TEST_CASE("joint rows of every joint type are set up as SI sets them up", "[join
         CHECK(j.feedback == joints[i]->getJointFeedback());
         float& worst = worstByType[names[i]];
         for (int r = j.firstRow; r < j.firstRow + j.numRows; ++r)
-            worst = std::max(worst, rowGap(siRows[r], ours.joints.rows[size_t(r)], bullet, ours.problem, same));
+            worst = std::max(worst, rowGap(siRows[r], ours.joints.rows[size_t(r)], bullet, ours.original, same));
         if (j.numRows == 0) {
             CHECK(j.constraintIndex == -1);
             continue;
@@ -189,7 +191,7 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
         CHECK(c.position.y == Approx(10.0f - 0.5f * float(i)));  // the shared face
     }
     for (size_t b = 1; b < g.problem.bodies.size(); ++b) {
-        if (g.problem.original[b] == s1 || g.problem.original[b] == s2) {
+        if (g.original[b] == s1 || g.original[b] == s2) {
             CHECK(set.splitExtent[b] == Approx(2.0f));  // its own 1 m and half the 2 m gap
         } else {
             CHECK(set.splitExtent[b] == Approx(g.problem.splitBodies[b].extent));  // nothing added
@@ -234,11 +236,11 @@ public:
         p.constraints.insert(p.constraints.begin(), jointConstraints.begin(), jointConstraints.end());
         p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
                                       p.numRowsOf(BTOCL_ROWS_ROLLING), int(g.joints.rows.size()));
-        p.joints = g.joints;  // the step's iteration count, as SI's (passScheduleOf)
-        solveOnHost(p, buildSerialLayout(int(p.constraints.size())), SolveSettings::from(info, false));
+        p.jointIterations = g.joints.maxIterations;  // the step's iteration count, as SI's (passScheduleOf)
+        solveOnHost(p, buildSerialLayout(int(p.constraints.size())), solveSettingsOf(info, false));
 
         std::vector<btVector3> linear, angular;
-        for (size_t i = 1; i < p.original.size(); ++i) {
+        for (size_t i = 1; i < g.original.size(); ++i) {
             const btoclBody& b = p.bodies[i];
             const btoclBodyDelta& d = p.deltas[i];
             linear.push_back(toVector3(b.linearVelocity) + toVector3(d.deltaLinearVelocity) + toVector3(b.externalForceImpulse));
@@ -265,8 +267,8 @@ public:
                                                                            dispatcher);
         ++worst.calls;
         worst.joints += numJoints;
-        for (size_t i = 1; i < p.original.size(); ++i) {
-            const btRigidBody* rb = p.original[i];
+        for (size_t i = 1; i < g.original.size(); ++i) {
+            const btRigidBody* rb = g.original[i];
             if (rb->getInvMass() == 0) continue;
             worst.velocity = std::max({worst.velocity, gap(rb->getLinearVelocity(), linear[i - 1]),
                                        gap(rb->getAngularVelocity(), angular[i - 1])});

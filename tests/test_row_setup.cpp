@@ -39,17 +39,17 @@ public:
 
 // The largest relative gap between one of SI's rows and ours, over every field the solve reads;
 // `sameBodies` is cleared when they act on other bodies or refer to another normal row.
-float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const StepProblem& p,
+float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const BulletStep& from,
              bool compareNormalIndex, bool& sameBodies) {
-    if (bullet.body(si.m_solverBodyIdA).m_originalBody != p.original[size_t(r.bodyA)] ||
-        bullet.body(si.m_solverBodyIdB).m_originalBody != p.original[size_t(r.bodyB)] ||
+    if (bullet.body(si.m_solverBodyIdA).m_originalBody != from.original[size_t(r.bodyA)] ||
+        bullet.body(si.m_solverBodyIdB).m_originalBody != from.original[size_t(r.bodyB)] ||
         (compareNormalIndex && si.m_frictionIndex != r.frictionIndex))
         sameBodies = false;
     return fieldGap(si, r);
 }
 
 // Holds one problem's rows (gather order), friction directions and warm-started bodies to SI's.
-void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bullet,
+void requireAsSI(const char* path, const StepProblem& p, const BulletStep& from, const SetupOnlySI& bullet,
                  const std::vector<btVector3>& siDir1, const std::vector<btVector3>& siDir2) {
     INFO(path << " setup");
     REQUIRE(p.numRowsOf(BTOCL_ROWS_NORMAL) == bullet.normalRows().size());
@@ -63,7 +63,7 @@ void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bull
     bool sameBodies = true;
     auto check = [&](const btConstraintArray& pool, int base, bool compareNormalIndex) {
         for (int k = 0; k < pool.size(); ++k) {
-            const float gap = rowGap(pool[k], p.rows[size_t(base + k)], bullet, p, compareNormalIndex, sameBodies);
+            const float gap = rowGap(pool[k], p.rows[size_t(base + k)], bullet, from, compareNormalIndex, sameBodies);
             if (gap > worst) {
                 worst = gap;
                 worstRow = base + k;
@@ -91,9 +91,9 @@ void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bull
     float worstDelta = 0;
     for (int id = 0; id < bullet.numBodies(); ++id) {
         btSolverBody& sb = const_cast<btSolverBody&>(bullet.body(id));
-        const auto ours = std::find(p.original.begin(), p.original.end(), sb.m_originalBody);
-        if (!sb.m_originalBody || ours == p.original.end()) continue;
-        const btoclBodyDelta& d = p.deltas[size_t(ours - p.original.begin())];
+        const auto ours = std::find(from.original.begin(), from.original.end(), sb.m_originalBody);
+        if (!sb.m_originalBody || ours == from.original.end()) continue;
+        const btoclBodyDelta& d = p.deltas[size_t(ours - from.original.begin())];
         worstDelta = std::max({worstDelta, vectorGap(sb.internalGetDeltaLinearVelocity(), d.deltaLinearVelocity),
                                vectorGap(sb.internalGetDeltaAngularVelocity(), d.deltaAngularVelocity)});
     }
@@ -106,11 +106,12 @@ void requireAsSI(const char* path, const StepProblem& p, const SetupOnlySI& bull
 // Gathers the world's contacts for both setups, sets the rows up (and warm-starts) on the host and
 // on the device, then lets SI set up the same contacts and compares.
 void requireRowsAsSI(World& w, const btContactSolverInfo& info, bool deviceToo = true) {
-    StepProblem host = gatherProblem(w, info, RowSetup::Host);
-    StepProblem dev = gatherProblem(w, info, RowSetup::Device);
+    GatheredStep gatheredHost = gatherStep(w, info, RowSetup::Host), gatheredDev = gatherStep(w, info, RowSetup::Device);
+    StepProblem& host = gatheredHost.problem;
+    StepProblem& dev = gatheredDev.problem;
     REQUIRE_FALSE(host.rowsOnDevice);
     REQUIRE(dev.rowsOnDevice == deviceToo);
-    SolveSettings settings = SolveSettings::from(info, false);
+    SolveSettings settings = solveSettingsOf(info, false);
     settings.numIterations = 0;  // the warm start only
     solveOnHost(host, buildSerialLayout(int(host.constraints.size())), settings);
     solveOnDevice(dev, buildSerialLayout(int(dev.constraints.size())), settings, &dev.rows);
@@ -118,12 +119,12 @@ void requireRowsAsSI(World& w, const btContactSolverInfo& info, bool deviceToo =
     SetupOnlySI bullet;  // last: it writes friction directions and flags to the points
     bullet.setUp(w, info);
     std::vector<btVector3> dir1, dir2;
-    for (btManifoldPoint* cp : host.manifoldPoints) {
+    for (btManifoldPoint* cp : gatheredHost.bullet.manifoldPoints) {
         dir1.push_back(cp->m_lateralFrictionDir1);
         dir2.push_back(cp->m_lateralFrictionDir2);
     }
-    requireAsSI("host", host, bullet, dir1, dir2);
-    if (deviceToo) requireAsSI("device", dev, bullet, dir1, dir2);
+    requireAsSI("host", host, gatheredHost.bullet, bullet, dir1, dir2);
+    if (deviceToo) requireAsSI("device", dev, gatheredDev.bullet, bullet, dir1, dir2);
 }
 
 TEST_CASE("contact rows are set up on the host and on the device as SI sets them up", "[setup]") {
