@@ -1,10 +1,9 @@
-// The iterations on the device: uploads a step's bodies and constraints, lays constraints and
-// rows out in solve order, sets the rows up, launches the iterations (SolveLaunch) with no host
-// round trip between them, and reads back the velocity changes and applied impulses. Buffers
-// are kept and grown from step to step.
+// The device's part of a step's solve, in its stages: uploads the step's bodies and constraints,
+// lays constraints and rows out in the layout's solve order and sets the rows up (arrange),
+// launches the plan's passes with no host round trip between them (iterate), and reads back the
+// velocity changes and applied impulses (download). Buffers are kept and grown from step to step.
 #pragma once
 
-#include "BatchLayout.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "SolveSettings.h"
@@ -33,8 +32,6 @@ public:
     // (bodies, points and deltas in place where it works in the host's memory). p.deltas must
     // be all zero, as the gather leaves them: the solve adds to them.
     void upload(const StepProblem& p);
-    // Copies a host-built layout to this solver's own buffers.
-    DeviceLayoutView uploadLayout(const BatchLayout& layout);
     // Places constraints and rows in the layout's solve order and sets the rows up there
     // (kernels/arrange.cl, kernels/setup.cl).
     void arrange(StepProblem& p, const DeviceLayoutView& layout);
@@ -43,13 +40,11 @@ public:
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
     int download(StepProblem& p, const StepPlan& plan, const SolveSettings& settings);
-    // The rows as they are on the device, in gather order, in the full record (tests compare them
-    // with SI's): B's linear Jacobian the negative of A's, zero on a side without a rigid body.
-    std::vector<btoclRow> downloadRows(const StepProblem& p) const;
-
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
 private:
+    friend class DeviceSolveProbe;  // the tests' read-back of the rows (reference/DeviceSolveProbe.h)
+
     static constexpr cl_uint kSolveBufferArgs = 10;
     void bindSolveBuffers(cl::Kernel& kernel, const DeviceLayoutView& layout) const;
     void launchPerSet(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
@@ -72,8 +67,7 @@ private:
     DeviceBuffer<int> m_normalOfRow;     // friction and rolling rows: their normal row, in solve order
     DeviceBuffer<btoclContactPoint> m_points;
     DeviceBuffer<btoclFloat4> m_lateralDirs;
-    DeviceBuffer<btoclGroup> m_groups;
-    DeviceBuffer<int> m_solveOrder, m_batchEnd, m_setGroupStart, m_control, m_rowBase, m_frictionRowBase, m_rowMap;
+    DeviceBuffer<int> m_control, m_rowBase, m_frictionRowBase, m_rowMap;
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     DeviceBuffer<int> m_progress;  // solveStepClaimed's finished counts, residuals and claim counters

@@ -4,6 +4,7 @@
 
 #include "BulletConversions.h"
 #include "BulletGather.h"
+#include "DeviceSolveProbe.h"
 #include "DeviceSolver.h"
 #include "PinnedHostMemory.h"
 #include "TestDevice.h"
@@ -65,12 +66,13 @@ inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveS
     DevicePrimitives primitives(rt, testBackend());
     DeviceSolver solver(rt, primitives);
     const StepPlan plan = testPlan(mode, passScheduleOf(settings, p));
+    DeviceSolveProbe probe(rt);
     solver.upload(p);
-    const DeviceLayoutView view = solver.uploadLayout(layout);
+    const DeviceLayoutView view = probe.uploadLayout(layout);
     solver.arrange(p, view);
     solver.iterate(p, plan, view, settings);
     const int iterations = solver.download(p, plan, settings);
-    if (rows) *rows = solver.downloadRows(p);
+    if (rows) *rows = DeviceSolveProbe::downloadRows(solver, p);
     return iterations;
 }
 
