@@ -6,7 +6,5 @@ foreach(prog bench_primitives startup)
   add_executable(${prog} "${CMAKE_CURRENT_LIST_DIR}/${prog}.cpp")
   btocl_target_defaults(${prog})
   # They reach past the public header, into the library's own classes and kernels.
-  target_include_directories(${prog} PRIVATE "${PROJECT_SOURCE_DIR}/bullet_plugin" "${PROJECT_SOURCE_DIR}/kernels")
-  target_link_libraries(${prog} PRIVATE bullet_opencl_solver OpenCL::OpenCL Boost::headers CLI11::CLI11
-                                        nlohmann_json::nlohmann_json)
+  target_link_libraries(${prog} PRIVATE btocl_internal CLI11::CLI11 nlohmann_json::nlohmann_json)
 endforeach()

@@ -87,7 +87,7 @@ enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRIC
 // reference: the warm start (when asked), the push iterations, then the velocity iterations, each
 // a normal and a friction pass while iteration < numIterations and a normal pass alone past it
 // (for joints that ask for more iterations than the contacts get). Made by passScheduleOf
-// (bullet_plugin/StepPlan.h).
+// (bullet_plugin/step/StepPlan.h).
 typedef struct {
     int warmStart;       // 1: a warm start pass first
     int pushIterations;  // 0 where no contact point may get a push share
@@ -147,7 +147,7 @@ BTOCL_INLINE btoclPassStep btoclPassAt(btoclPassSchedule s, int index) {
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
 #define BTOCL_FLAG_ROTATE_POINTS 4   // each iteration starts a manifold's normal rows at another point
 
-// Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/BulletGather.cpp).
+// Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/bullet/BulletGather.cpp).
 #define BTOCL_SOLVER_USE_WARMSTARTING 4
 #define BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS 16
 #define BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING 32

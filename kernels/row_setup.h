@@ -1,8 +1,8 @@
 // Contact rows from a contact point, with btSequentialImpulseConstraintSolver's formulas
 // (setupContactConstraint, setupFrictionConstraint, setupTorsionalFrictionConstraint), written
-// once for the device (kernels/setup.cl) and the host (bullet_plugin/HostRowSetup.cpp: the path
+// once for the device (kernels/setup.cl) and the host (bullet_plugin/bullet/HostRowSetup.cpp: the path
 // for anisotropic friction); and joint rows finished from what a joint's getInfo2 wrote (SI's
-// convertJoint; bullet_plugin/JointRows.cpp). Functions of values: the caller reads the records
+// convertJoint; bullet_plugin/bullet/JointRows.cpp). Functions of values: the caller reads the records
 // and stores the rows. The tests hold the result to SI's own rows (tests/test_row_setup.cpp,
 // tests/test_joint_rows.cpp).
 #ifndef BTOCL_ROW_SETUP_H

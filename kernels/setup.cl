@@ -1,6 +1,6 @@
 // Constraint rows from contact points, one work-item per point: the normal row, one or two
 // friction rows and the rolling/spinning rows (kernels/row_setup.h), written straight to their
-// places in solve order. Host twin: bullet_plugin/HostRowSetup.cpp, from the same row_setup.h.
+// places in solve order. Host twin: bullet_plugin/bullet/HostRowSetup.cpp, from the same row_setup.h.
 #include "btocl_shared.h"
 #include "row_setup.h"
 

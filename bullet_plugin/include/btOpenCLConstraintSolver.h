@@ -7,23 +7,13 @@
 //     btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
 #pragma once
 
+#include "btOpenCLSolverError.h"
+
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <LinearMath/btScalar.h>
 
 #include <memory>
-#include <stdexcept>
 #include <string>
-
-// Every error the solver reports: no device, a kernel build failure (with the compiler's log),
-// a device error mid-step, non-finite input from the world (named: a setting by its field, a
-// body by its world index), sizes past the device's limits. A step that throws has changed
-// nothing in the world, and the solver steps on. btDiscreteDynamicsWorld::stepSimulation skips
-// its clearForces() when the step throws: a caller who catches and steps on calls
-// world.clearForces() first, or the forces (gravity too) of the failed step count twice.
-class btOpenCLSolverError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 // How the device walks the constraints of a cell group.
 enum class btOpenCLSolvePath {

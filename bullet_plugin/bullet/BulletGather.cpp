@@ -4,7 +4,7 @@
 #include "HostParallel.h"
 #include "HostRowSetup.h"
 #include "InputChecks.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 #include "row_setup.h"
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>

@@ -1,7 +1,7 @@
 #include "DeviceLayout.h"
 
 #include "batch_priority.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <cstring>

@@ -3,7 +3,7 @@
 #include "BulletConversions.h"
 #include "HostParallel.h"
 #include "InputChecks.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 #include "row_setup.h"
 #include "row_solve.h"
 

@@ -1,6 +1,6 @@
 #include "KernelSources.h"
 
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <cstdlib>
 #include <fstream>

@@ -6,7 +6,7 @@
 // the error is an InputError, which fallbackToBullet never hides.
 #pragma once
 
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 

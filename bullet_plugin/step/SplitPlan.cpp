@@ -1,6 +1,6 @@
 #include "SplitPlan.h"
 
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <cmath>

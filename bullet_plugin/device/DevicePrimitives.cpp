@@ -1,6 +1,6 @@
 #include "DevicePrimitives.h"
 
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 #include "split_grid.h"
 
 #include <boost/compute/algorithm/exclusive_scan.hpp>

@@ -3,7 +3,7 @@
 
 #include "HostArray.h"
 #include "OclRuntime.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <cstddef>

@@ -2,7 +2,7 @@
 #include "HostBatching.h"
 
 #include "batch_priority.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <climits>

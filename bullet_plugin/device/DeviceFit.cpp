@@ -1,6 +1,6 @@
 #include "DeviceFit.h"
 
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 #include "split_grid.h"
 
 #include <algorithm>

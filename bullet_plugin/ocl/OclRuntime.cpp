@@ -2,7 +2,7 @@
 
 #include "FaultInjection.h"
 #include "KernelSources.h"
-#include "btOpenCLConstraintSolver.h"
+#include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <cctype>
