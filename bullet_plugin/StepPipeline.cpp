@@ -1,0 +1,105 @@
+#include "StepPipeline.h"
+
+#include "BulletConversions.h"
+#include "LayoutValidator.h"
+#include "StepWriteBack.h"
+
+#include <chrono>
+
+namespace btocl {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+SplitParams splitParamsOf(const btOpenCLSolverConfig& config) {
+    SplitParams params;
+    params.cellSize = float(config.cellSize);
+    params.batchIterations = config.batchIterations;
+    params.workGroupSize = config.workGroupSize;
+    return params;
+}
+
+StepPipeline::StepPipeline(const btOpenCLSolverConfig& config)
+    : m_config(config),
+      m_runtime(config.device),
+      m_plan(planSolver(config, m_runtime)),
+      // A device with memory of its own copies the step's arrays by DMA from pinned memory.
+      m_pinned(m_runtime.hostUnifiedMemory() ? nullptr : std::make_unique<PinnedHostMemory>(m_runtime)),
+      m_primitives(m_runtime, m_plan.sortAndScan),
+      m_limits(deviceLimitsOf(m_runtime)),
+      m_solve(m_runtime, m_primitives),
+      m_layout(m_runtime, m_primitives) {}
+
+void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info,
+                       btOpenCLSolverStats& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints);
+    const StepPlan step = planStep(m_plan, p, settings);
+    checkStepFitsDevice(countsOf(p), m_limits);
+
+    m_runtime.clearPhases();
+    // Serial path: the step's commands enqueued whole before PoCL starts them (OclRuntime.h);
+    // the wide path's sort and scan (Boost.Compute) may wait on the queue themselves.
+    if (!m_plan.wide()) m_runtime.holdQueue();
+    m_runtime.beginPhase(DevicePhase::Upload);
+    m_solve.upload(p);
+
+    // The global split and local batches on the device, from the constraints just uploaded.
+    m_layout.build(m_solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(m_config), step);
+    DeviceLayoutView view;
+    view.groups = &m_layout.groups().buffer();
+    view.solveOrder = &m_layout.solveOrder().buffer();
+    view.batchEnd = &m_layout.batchEnd().buffer();
+    view.setGroupStartOnDevice = &m_layout.setGroupStartBuffer().buffer();
+    if (!step.setStartsOnDevice()) view.setGroupStart = m_layout.setGroupStart();
+    if (m_config.validate) {
+        m_runtime.endPhases();  // the validation's read-back is not a part of the step
+        const std::string failure = validateBatchLayout(m_layout.download(), p.constraints);
+        if (!failure.empty()) {
+            s.validationFailures += 1;
+            s.lastValidationMessage = failure;
+        }
+    }
+
+    m_runtime.beginPhase(DevicePhase::Setup);
+    m_solve.arrange(p, view);
+    m_runtime.beginPhase(DevicePhase::Solve);
+    m_solve.iterate(p, step, view, settings);
+    m_runtime.beginPhase(DevicePhase::Download);
+    s.numIterationsRun = m_solve.download(p, step, settings);  // the one wait
+    m_runtime.endPhases();
+    s.msDevice = msSince(t0);
+    fillDeviceStats(s, p, step);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    writeBackStep(p, bullet, info);
+    s.msWriteback = msSince(t1);
+    s.deviceBytes = double(m_runtime.bufferBytes());
+}
+
+// What the device did: its phases' times (profiling events), the layout's counts, the step's.
+void StepPipeline::fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const {
+    s.msUpload = m_runtime.phaseMs(DevicePhase::Upload);
+    s.msSplit = m_runtime.phaseMs(DevicePhase::Split);
+    s.msBatch = m_runtime.phaseMs(DevicePhase::Batch);
+    s.msSetup = m_runtime.phaseMs(DevicePhase::Setup);
+    s.msSolve = m_runtime.phaseMs(DevicePhase::Solve);
+    s.msDownload = m_runtime.phaseMs(DevicePhase::Download);
+    const DeviceLayoutStats& layoutStats = m_layout.stats();
+    s.numCellGroups = layoutStats.numCellGroups;
+    s.numGroups = m_layout.numGroups();
+    s.solvedWholeStep = step.oneGroup() && !p.constraints.empty();
+    s.numBatchesMax = layoutStats.numBatchesMax;
+    s.numBatchesMean = layoutStats.numBatchesMean;
+    s.numOverflowConstraints = layoutStats.numOverflowConstraints;
+    s.numBodies = p.numBodies();
+    s.numContactPoints = p.numContactPoints();
+    s.numConstraintRows = p.numRows();
+    s.numJointRows = p.numJointRows();
+}
+
+}  // namespace btocl

@@ -1,0 +1,64 @@
+// A gathered step through every stage after the gather, written once, in order:
+//   plan       how the step runs (planStep: whole or split, launch mode, passes)
+//   fit        every buffer checked against the device's limits, before anything is enqueued
+//   upload     bodies, constraints, contact points and host rows to the device
+//   layout     the global split and the local batches (DeviceLayout), or one group
+//   arrange    constraints and rows in solve order, contact rows set up (DeviceSolver::arrange)
+//   iterate    the plan's passes, launched as its mode says, no host round trip between them
+//   download   velocity changes and impulses back: the step's one wait
+//   write-back to Bullet's bodies, points and joints (the only stage that changes the world)
+// The device's stages are enqueued without waits and timed by profiling events per phase.
+#pragma once
+
+#include "BulletStep.h"
+#include "DeviceFit.h"
+#include "DeviceLayout.h"
+#include "DevicePrimitives.h"
+#include "DeviceSolver.h"
+#include "OclRuntime.h"
+#include "PinnedHostMemory.h"
+#include "StepPolicy.h"
+#include "StepProblem.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <memory>
+
+namespace btocl {
+
+class StepPipeline {
+public:
+    // Chooses the device and builds every program. Throws btOpenCLSolverError.
+    explicit StepPipeline(const btOpenCLSolverConfig& config);
+    // Nothing queued may outlive the host memory it reads (the pinned memory).
+    ~StepPipeline() { m_runtime.drain(); }
+
+    // Solves a gathered step and writes it back to Bullet; fills the stats' device phases, layout
+    // counts and host times of the device and write-back stages. Throws btOpenCLSolverError
+    // before the write-back, with nothing in the world changed.
+    void run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info, btOpenCLSolverStats& stats);
+
+    // Host storage for the step's arrays: pinned memory on a device with memory of its own, else
+    // null (the heap; a device on the host's memory reads them in place).
+    HostMemorySource* hostMemory() { return m_pinned.get(); }
+    const OclRuntime& runtime() const { return m_runtime; }
+    const SolverPlan& plan() const { return m_plan; }
+    const char* sortAndScanName() const { return m_primitives.backendName(); }
+
+private:
+    void fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const;
+
+    // Members in the order they are made: each reads those above it.
+    const btOpenCLSolverConfig m_config;
+    OclRuntime m_runtime;
+    const SolverPlan m_plan;
+    std::unique_ptr<PinnedHostMemory> m_pinned;  // null on a device on the host's memory
+    DevicePrimitives m_primitives;
+    const DeviceLimits m_limits;
+    DeviceSolver m_solve;
+    DeviceLayout m_layout;
+};
+
+// The global split's settings of a config.
+SplitParams splitParamsOf(const btOpenCLSolverConfig& config);
+
+}  // namespace btocl
