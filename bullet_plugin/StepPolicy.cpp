@@ -59,8 +59,8 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
                                                    : double(p.numRows()) <= solver.autoWholeStepMaxRows;
     if (whole) return StepPlan::wholeStep(solver.lanes, passes);
     // A split step on the serial path runs in one claimed launch (the per-set launches, about a
-    // hundred a step, cost PoCL some 40 us each); the wide path keeps one launch per set and pass
-    // until it is measured on a GPU.
+    // hundred a step, each cost PoCL more than a small group's work; docs/performance.md); the wide
+    // path keeps one launch per set and pass until it is measured on a GPU.
     return solver.wide() ? StepPlan::perSet(solver.lanes, passes) : StepPlan::claimed(passes);
 }
 

@@ -1,5 +1,5 @@
-// Local batch creation (DESIGN §1, the paper's §2.2): one work-group per constraint group splits
-// the group into batches in which no dynamic body appears twice.
+// Local batch creation (docs/architecture.md, "Local batches"; the paper's §2.2): one work-group
+// per constraint group splits the group into batches in which no dynamic body appears twice.
 //
 // The group streams through a local window of BTOCL_BATCH_WINDOW constraints. The window's dynamic bodies
 // have exact slots in a local open-addressing table (so no false conflicts). For each batch `rounds`

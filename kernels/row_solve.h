@@ -92,9 +92,9 @@ BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, bt
 // A constraint's rows form one chain (each reads the velocities the row before wrote), and on a
 // CPU the chain's length is the solve's speed: the velocity along the row is summed as vectors,
 // linear parts and angular parts, and reduced once, and what depends on the row alone is computed
-// off the chain (btocl_bench --solver ocl: block 12K's solve 58 -> 50 ms, columns 12K 8.3 -> 6.0,
-// against two dot products per body reduced one after the other). Its rounding differs from that
-// form's, and resting figures move with it as with any reordering of the sums (README).
+// off the chain, rather than two dot products per body reduced one after the other
+// (docs/performance.md). Its rounding differs from that form's, and resting figures move with it
+// as with any reordering of the sums (README, "Resting quality").
 BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, BTOCL_GLOBAL float* appliedImpulse,
                                  btoclSolveBody* A, btoclSolveBody* B, float lower, float upper, int push) {
     const float jacDiagABInv = BTOCL_SOLVE_ROW_JAC_DIAG_INV(*row);

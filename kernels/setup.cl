@@ -23,8 +23,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const int i = get_global_id(0);
     if (i >= prm.numPoints) return;
     if (BTOCL_PREFETCHES && i + 8 < prm.numPoints) {
-        // The bodies of the point 8 ahead, which lie scattered (block 12K's setup, medians of two
-        // sets of alternating rounds: 15.3 -> 14.3 and 16.0 -> 15.8 ms, btocl_bench --solver ocl).
+        // The bodies of the point 8 ahead, which lie scattered.
         __global const btoclBody* a = bodies + points[i + 8].bodyA;
         __global const btoclBody* b = bodies + points[i + 8].bodyB;
         for (int line = 0; line < (int)sizeof(btoclBody); line += 64) {

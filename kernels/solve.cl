@@ -162,8 +162,8 @@ BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btocl
 // The groups of one set are split into one contiguous range per work-group. A work-group takes
 // the groups of its own range first, then what is left of the others' (a unit that is late or
 // busy elsewhere holds nothing up). Its own range covers about the same cells in every set and
-// pass, so the bodies it writes stay in its core's cache (taking groups from one shared counter
-// instead made block 12K's solve 77 ms against 57).
+// pass, so the bodies it writes stay in its core's cache (one shared counter instead scattered
+// them over the cores; docs/performance.md).
 inline int2 claimRange(int first, int count, int range, int numRanges) {
     return (int2)(first + (int)((long)count * range / numRanges), first + (int)((long)count * (range + 1) / numRanges));
 }
@@ -180,7 +180,7 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // counters, and none starts a set before every group of the sets before has finished (the sum
 // of their counts of finished groups): groups of one set share no dynamic body, so they run side
 // by side, and a set sees everything the sets before it wrote. The result is that of one launch
-// per set and pass, without the launches (about a hundred a step, 40 us each on PoCL).
+// per set and pass, without the launches (about a hundred a step, each a fixed cost on PoCL).
 // It cannot deadlock, however few work-groups the device runs at once: a work-group waits only
 // once it has found every group of the set taken, and a group is taken only by a running
 // work-group, which finishes it without waiting on anything (one that never starts takes none).
@@ -194,7 +194,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
     const int numGroups = setStart[BTOCL_NUM_SETS + 1];
     // Groups taken by one claim (an atomic add on a counter the others may touch): about 64
-    // constraints' worth (columns 12K has 15 constraints a group, block 12K 180).
+    // constraints' worth (groups hold from about 15 constraints to a few hundred).
     const int groupsPerClaim = max(1, 64 / max(1, numConstraints / max(1, numGroups)));
     const int self = get_group_id(0), numRanges = get_num_groups(0);
     const int track = flags & BTOCL_FLAG_TRACK_RESIDUAL;

@@ -1,6 +1,6 @@
-// Global split (DESIGN §1): a cell key per constraint; the stable sort by key and the scan over
-// key bins are DevicePrimitives' (kernels/primitives.cl); then the groups (one per non-empty key,
-// set-major) and each set's first group. Deterministic: no atomics.
+// Global split (docs/architecture.md, "The global split"): a cell key per constraint; the stable
+// sort by key and the scan over key bins are DevicePrimitives' (kernels/primitives.cl); then the
+// groups (one per non-empty key, set-major) and each set's first group. Deterministic: no atomics.
 #include "btocl_shared.h"
 #include "split_grid.h"
 

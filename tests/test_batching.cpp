@@ -1,6 +1,6 @@
 // Global split and local batching: the device against its serial host twin (bitwise), the
-// invariants of DESIGN §5 on every layout, batch quality against greedy colouring, determinism;
-// layouts of worlds with joints, gathered from Bullet.
+// invariants of docs/architecture.md on every layout, batch quality against greedy colouring,
+// determinism; layouts of worlds with joints, gathered from Bullet.
 #include "BatchingScenes.h"
 #include "GatherAndSolve.h"
 #include "JointScenes.h"
@@ -294,8 +294,8 @@ TEST_CASE("the grid caps the cells per axis by enlarging the cell", "[batching]"
 }
 
 TEST_CASE("non-finite contact points neither crash nor part device from host", "[batching]") {
-    // The solver rejects such contacts before the split (DESIGN §6); the split must still stay in
-    // bounds: NaN coordinates are left out of the box and go to cell 0; an axis of infinite width
+    // The solver rejects such contacts before the split (bullet/InputChecks.h); the split must
+    // still stay in bounds: NaN coordinates are left out of the box and go to cell 0; an axis of infinite width
     // counts as flat, so the grid takes the other two.
     BatchScene scene = randomPile(300, 31);
     REQUIRE(scene.constraints.size() > 20);
@@ -330,8 +330,9 @@ int numJointConstraints(const std::vector<btoclConstraint>& constraints) {
                              [](const btoclConstraint& c) { return c.numRows[BTOCL_ROWS_JOINT] > 0; }));
 }
 
-// DESIGN §5 directly: outside the overflow group, the constraints of each dynamic body lie
-// within one cell edge of each other on every axis (so no two cells of one set share it).
+// Invariant 3 of docs/architecture.md directly: outside the overflow group, the constraints of
+// each dynamic body lie within one cell edge of each other on every axis (so no two cells of one
+// set share it).
 // Returns "" or the first body that reaches further.
 std::string reachWithinCells(const BatchLayout& layout, const std::vector<btoclConstraint>& constraints) {
     std::unordered_map<int, std::pair<Vec3, Vec3>> box;  // per dynamic body: its constraints' box

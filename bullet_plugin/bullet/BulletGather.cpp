@@ -181,9 +181,8 @@ int StepGatherer::knownBodyOf(const btCollisionObject* object) const {
 }
 
 // Indices in SI's order on this thread; the records are filled in parallel when the step is
-// finished, all islands' bodies in one loop (a scene of many small islands, each its own call,
-// filled them a call at a time, each too small for a parallel loop: columns 12K, 80 calls of
-// 150 bodies a step).
+// finished, all islands' bodies in one loop (a scene of many small islands makes a call each,
+// every one too small for a parallel loop).
 void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
     for (int i = 0; i < numBodies; ++i) namedBodyOf(bodies[i]);
 }
@@ -312,16 +311,14 @@ void StepGatherer::packManifold(size_t m) {
 // Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
 // whether one can move, and its points counted, in parallel; then, on this thread, the bodies
 // first met here named (in SI's order: manifold order) and places given by a running count over
-// the slots alone; then each manifold checked and packed at its places, in parallel. (Three passes
-// before, the bodies' lookup one of its own and the points checked in the count: block 12K's
-// gather 20-26 ms -> 16-17 ms; whether a body can move read in the count, not the running count,
-// and a manifold's objects read again only for anisotropic friction: 17.6 -> 16.1 ms, btocl_bench.)
+// the slots alone; then each manifold checked and packed at its places, in parallel. Each pass
+// reads what it needs of a manifold once (docs/performance.md, "The gather").
 void StepGatherer::packManifolds() {
     StepProblem& p = m_problem;
     const size_t numManifolds = m_manifolds.size();
     fillNewBodies();  // the bodies named by addBodies: the count reads whether they can move
     // Sized with room to spare: a scene's manifolds grow for many steps, and each exact-fit
-    // regrowth is fresh memory (columns 12K: 5 ms of page faults a step for 2 MB here).
+    // regrowth is fresh memory, which costs page faults.
     resizeForOverwrite(m_slots, numManifolds);
     std::fill(m_slots.begin(), m_slots.end(), ManifoldSlot{});
     parallelFor(numManifolds, [&](size_t m) {
@@ -371,7 +368,7 @@ void StepGatherer::packManifolds() {
 StepProblem& StepGatherer::finish() {
     StepProblem& p = m_problem;
     p.rowsOnDevice = m_setup == RowSetup::Device;
-    packManifolds();  // also sets up the rows on the host where a body has anisotropic friction
+    packManifolds();  // a body with anisotropic friction clears rowsOnDevice
     p.setupParams.numPoints = int(p.points.size());
     if (!p.rowsOnDevice) setupRowsOnHost(p, m_bullet);
     if (!m_joints.empty()) addJointRows();

@@ -109,9 +109,9 @@ struct ReachBoxes {
     }
 };
 
-// The joint's point for the global split. DESIGN §5: a dynamic body's constraints must all fall
-// within one cell's edge of each other, and the cell is sized from the bodies' AABBs, within which
-// their contact points lie. Where the two AABBs overlap (linked bodies do at their pivot: chain
+// The joint's point for the global split. A dynamic body's constraints must all fall within one
+// cell's edge of each other (docs/architecture.md, invariant 3), and the cell is sized from the
+// bodies' AABBs, within which their contact points lie. Where the two AABBs overlap (linked bodies do at their pivot: chain
 // links, limbs) the point is the middle of the overlap, inside both, and neither body reaches
 // further than its contacts do. Where they are apart, it is halfway across the gap on that axis,
 // and each body's reach grows by half the gap: splitExtent says so, and the split then takes a

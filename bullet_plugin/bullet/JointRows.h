@@ -44,7 +44,8 @@ struct JointRowSet {
     std::vector<btoclConstraint> constraints;
     // Per solver body: the largest edge of the box that holds its AABB and the split points of its
     // joints (0 for bodies without joints, and for static and kinematic ones). The global split
-    // needs a cell at least this big (DESIGN §5): take max(SplitBody::extent, splitExtent).
+    // needs a cell at least this big (docs/architecture.md, invariant 3): take
+    // max(SplitBody::extent, splitExtent).
     std::vector<float> splitExtent;
     // The step's velocity iterations: max(m_numIterations, every joint's override), SI's maxIterations.
     int maxIterations = 0;

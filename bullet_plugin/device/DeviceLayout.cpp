@@ -132,7 +132,7 @@ const std::array<int, BTOCL_NUM_SETS + 2>& DeviceLayout::setGroupStart() const {
     return m_setGroupStart;
 }
 
-// The global split (DESIGN §1): cell keys, a stable sort by key, one group per non-empty cell.
+// The global split (docs/architecture.md): cell keys, a stable sort by key, one group per non-empty cell.
 void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                           const SplitParams& params) {
     const OclRuntime& rt = m_rt;

@@ -84,8 +84,8 @@ DevicePrimitives::BackendTiming DevicePrimitives::timeBackends(const OclRuntime&
     const std::lock_guard<std::mutex> lock(mutex);
     const auto known = measured.find(rt.device()());
     if (known != measured.end()) return known->second;
-    // A small step's work (launches weigh most) and a large one's (block 12K has about 90K
-    // constraints). The backends' results are the same (stable sorts, exact integer scans), so
+    // A small step's work (launches weigh most) and a large one's (a 12K-box block has about
+    // 90K constraints). The backends' results are the same (stable sorts, exact integer scans), so
     // the choice changes no step's outcome, only its time.
     BackendTiming t;
     for (const Backend backend : {Backend::Chunked, Backend::BoostCompute}) {

@@ -6,8 +6,7 @@
 // sort whose last passes run on few work-items, many times slower, and Boost.Compute compiles
 // its programs at first use, once per OpenCL context, which makes start-up slower too. On other
 // devices (GPUs) neither is sure to win: Boost.Compute's radix sort and work-efficient scan use
-// lanes that a few long serial chunks waste, but take many more launches (an H100 paid about 2 ms
-// a step for its sort). There both are timed on the split's work when the first solver starts,
+// lanes that a few long serial chunks waste, but take many more launches. There both are timed on the split's work when the first solver starts,
 // and the faster is kept (fasterBackend). The CPU figures, and the command that gives them, are
 // in demos/bench/README.md ("Sort and scan: our kernels against Boost.Compute").
 //

@@ -4,9 +4,8 @@
 //
 // Why not OpenMP: after a parallel region libgomp's threads spin-wait for more work (unless the
 // user sets OMP_WAIT_POLICY=passive, read once at load time), and the step's next thing is the
-// device's work, which on PoCL runs on those same cores. Block of 3,000 boxes, our solver alone
-// (btocl_bench --solver ocl, 2 cores): setup 4.5-5.0 and solve 10.8-11.5 ms a step with libgomp's
-// default wait, 3.4-4.0 and 9.3-10.0 with passive threads.
+// device's work, which on PoCL runs on those same cores and lost a fifth of its speed to them
+// (docs/performance.md).
 #pragma once
 
 #include <chrono>
@@ -18,7 +17,7 @@ namespace btocl {
 
 // Below this many items a loop runs on the calling thread (waking the pool costs some tens of
 // microseconds, and the items of a small loop take less). From about 16K items the loops' gain
-// outweighs that (block 12K: gather 30 -> 20 ms, write-back 7.7 -> 3.9 ms).
+// outweighs that (docs/performance.md).
 // Tests lower it to run small scenes in parallel, and raise it to run large ones serially.
 constexpr size_t kMinParallelItems = 16384;
 inline size_t& minParallelItems() {
@@ -55,20 +54,17 @@ void prewakeHostThreads(std::chrono::microseconds spin);
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
 // What one rigid body's record weighs in a loop, against a manifold's (weight 1): reading or
-// writing a body's state costs several manifolds' packing (block 12K: 12K bodies in 3.3 ms on
-// one thread).
+// writing a body's state costs several manifolds' packing.
 constexpr size_t kRigidBodyWeight = 4;
 // A joint's getInfo1 or getInfo2 and its rows: from about 1,000 joints a step their loops run in
-// parallel (btocl_bench --solver ocl, two builds alternated, gather medians: ragdolls, 2,000
-// joints, 4.31 -> 3.81 ms over 5 rounds and 3.71 -> 3.54 over 6; machine, 912 joints, 0.48 ->
-// 0.64 ms in parallel over 5 rounds, so it stays on one thread).
+// parallel; below that, waking the pool cost more than it saved (docs/performance.md).
 constexpr size_t kJointWeight = 16;
 
 // Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
 // `weight` (an item that costs as much as several of a manifold loop's). The items are split in
 // contiguous ranges, eight per thread, which the threads take as they come, so that a worker
-// that wakes late still takes a share (on this VM about one loop in six of block 12K's ran all
-// its ranges on the caller, the worker not yet awake). An exception thrown by f ends its range:
+// that wakes late still takes a share (on a VM a worker can wake after the caller has finished
+// a whole loop alone). An exception thrown by f ends its range:
 // the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {

@@ -34,7 +34,8 @@ struct btOpenCLSolverConfig {
     // A small step is solved whole, by one work-group in one launch, without the global split:
     // there the launches per set and pass would cost more than the split saves. -1: the solver
     // decides (wide path: at most 1,024 constraints; serial path: by rows and compute units,
-    // README "How it works"); 0: every step is split; n > 0: steps of at most n rows.
+    // docs/architecture.md, "The plan and the passes"); 0: every step is split; n > 0: steps of at
+    // most n rows.
     int wholeStepMaxRows = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one

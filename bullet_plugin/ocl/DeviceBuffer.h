@@ -47,9 +47,8 @@ public:
     // Hands the host array's elements to the device for the step's commands, which must end
     // before the host writes the array again. On a device that works in the host's memory
     // (PoCL's CPU device: OclRuntime::hostUnifiedMemory) the buffer is the array itself
-    // (shareHost), and a map and unmap hand the host's writes over without a copy (block 12K:
-    // 43 MB of contact points a step copied before). Elsewhere the elements are copied, as
-    // enqueueWrite.
+    // (shareHost), and a map and unmap hand the host's writes over without a copy. Elsewhere the
+    // elements are copied, as enqueueWrite.
     void enqueueUpload(const OclRuntime& rt, const HostArray<T>& host) {
         if (!rt.hostUnifiedMemory()) {
             enqueueWrite(rt, host.data(), host.size());
@@ -71,8 +70,8 @@ public:
     }
 
     // Enqueues the hand-back of what the kernels wrote to the host array (prepareDownload):
-    // a map and unmap where it is the buffer (PoCL: no copy; block 12K had 12 MB of friction
-    // directions and impulses copied back each step), else a copy. Valid once the queue is finished.
+    // a map and unmap where it is the buffer (PoCL: no copy), else a copy. Valid once the queue
+    // is finished.
     void enqueueDownload(const OclRuntime& rt, HostArray<T>& host) {
         if (host.empty()) return;
         if (m_sharedHost == host.data() && m_capacity == host.capacity()) {

@@ -64,9 +64,8 @@ void checkCl(cl_int err, const char* what) {
 // PoCL's CPU device runs a work-group per worker thread, and the serial path's claimed solve
 // (kernels/solve.cl, solveStepClaimed) keeps one running on every compute unit for the whole
 // step, waiting on each other between sets. Unpinned, Linux at times woke both workers of a
-// 2-core machine on one core, which ran the step at one core's speed (block 1,500: 10.5 ms
-// against 5.5 in about half the steps of btocl_bench); pinned (POCL_AFFINITY=1), every step ran
-// at two. PoCL reads the variable when it starts its workers, at the process's first device
+// 2-core machine on one core, which ran the step at one core's speed; pinned (POCL_AFFINITY=1),
+// every step ran at two (docs/performance.md). PoCL reads the variable when it starts its workers, at the process's first device
 // query; a value the user set is kept (POCL_AFFINITY=0 opts out).
 static void pinPoclWorkersUnlessAsked() {
     if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);

@@ -90,8 +90,8 @@ public:
 
     // Holds every command enqueued from now on until releaseQueue(), so that a step's commands
     // are all enqueued before the device starts them: on PoCL a worker that starts the first
-    // copy takes the host thread's core while the host is still enqueueing (pyramid: 0.13 ms of
-    // a 1.2 ms step with the workers pinned). finish(), drain() and the blocking copies release
+    // copy takes the host thread's core while the host is still enqueueing (docs/performance.md).
+    // finish(), drain() and the blocking copies release
     // it first, so nothing waits on a held queue.
     void holdQueue() const;
     void releaseQueue() const noexcept;

@@ -1,4 +1,4 @@
-// The invariants of a split and batch layout (DESIGN §5), checked on the host. The solver runs
+// The invariants of a split and batch layout (docs/architecture.md, "Invariants"), checked on the host. The solver runs
 // it every step when btOpenCLSolverConfig::validate is set; the tests run it on their layouts.
 #pragma once
 
