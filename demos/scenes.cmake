@@ -19,7 +19,7 @@ target_include_directories(btocl_bench PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")  #
 target_link_libraries(btocl_bench PRIVATE btocl_scenes bullet_opencl_solver PNG::PNG nlohmann_json::nlohmann_json CLI11::CLI11)
 
 if(BTOCL_BUILD_TESTS)
-  set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid ragdolls machine)
+  set(BTOCL_BENCH_SCENES pyramid stack wall pile columns block block-grid ragdolls machine basic pyramid3d chain)
   # One smoke run per scene (the joint scenes too): small, 20 steps, both solvers side by side,
   # split and batch invariants checked every step; an error of our solver fails the test.
   foreach(scene IN LISTS BTOCL_BENCH_SCENES)

@@ -161,6 +161,20 @@ std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int links, co
     return chain;
 }
 
+std::vector<btRigidBody*> addHingeChain(World& w, const btVector3& pin, int links) {
+    w.allowSleeping();
+    const btVector3 half(btScalar(0.25), btScalar(0.05), btScalar(0.05));
+    const btVector3 axis(0, 0, 1);
+    std::vector<btRigidBody*> chain;
+    for (int i = 0; i < links; ++i)
+        chain.push_back(w.addBox(half, 1, at(pin + btVector3(half.x() * btScalar(2 * i + 1), 0, 0))));
+    const btVector3 left(-half.x(), 0, 0), right(half.x(), 0, 0);  // a link's ends
+    if (!chain.empty()) w.addConstraint(std::make_unique<btHingeConstraint>(*chain[0], left, axis));
+    for (size_t i = 1; i < chain.size(); ++i)
+        w.addConstraint(std::make_unique<btHingeConstraint>(*chain[i - 1], *chain[i], right, left, axis, axis));
+    return chain;
+}
+
 std::vector<std::string> addJointZoo(World& w) {
     std::vector<std::string> names;
     int slot = 0;

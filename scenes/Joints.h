@@ -34,6 +34,11 @@ inline std::vector<btRigidBody*> addChain(World& w, const btVector3& top, int li
     return addChain(w, top, links, btVector3(kick, 0, 0));
 }
 
+// `links` boxes of 0.5 x 0.1 x 0.1 m and 1 kg in a horizontal line along x from `pin`, each hinged
+// to the next about z at their touching ends and the first to the world at `pin`: a chain that
+// swings down from where it is pinned, as a new user first builds one (its links may fall asleep).
+std::vector<btRigidBody*> addHingeChain(World& w, const btVector3& pin, int links);
+
 // Every joint type btDiscreteDynamicsWorld accepts (point-to-point, hinge, hinge2, universal,
 // slider, cone-twist, generic 6-DoF, 6-DoF spring and spring2, fixed, gear), to the fixed body, to
 // a static body and between two dynamic bodies, with limits and motors where the type has them;

@@ -137,4 +137,28 @@ void groundAndGridBlock(World& w, int boxes) {
                 w.addUnitBox(btVector3(btScalar(ix) + offset, 0.5f + btScalar(layer), btScalar(iz) + offset), surface);
 }
 
+void basicDemoLattice(World& w, int n) {
+    w.allowSleeping();
+    const btVector3 groundHalf(50, 50, 50);
+    w.addBox(groundHalf, 0, at(btVector3(0, -50, 0)));
+    const btVector3 half(btScalar(0.1), btScalar(0.1), btScalar(0.1));
+    const int a = std::max(1, n);
+    for (int k = 0; k < a; ++k)
+        for (int i = 0; i < a; ++i)
+            for (int j = 0; j < a; ++j)
+                w.addBox(half, 1, at(btVector3(btScalar(0.2 * i), btScalar(2 + 0.2 * k), btScalar(0.2 * j))));
+}
+
+void groundAnd3dPyramid(World& w, int base) {
+    const int n = std::max(1, base);
+    addGround(w, BodyOptions{}, btScalar(n) + 10);
+    for (int layer = 0; layer < n; ++layer) {
+        const int side = n - layer;
+        const btScalar offset = -0.5f * btScalar(side - 1);
+        for (int iz = 0; iz < side; ++iz)
+            for (int ix = 0; ix < side; ++ix)
+                w.addUnitBox(btVector3(btScalar(ix) + offset, 0.5f + btScalar(layer), btScalar(iz) + offset));
+    }
+}
+
 }  // namespace btscenes

@@ -68,4 +68,13 @@ void groundAndBondedBlock(World& w, int boxes);
 // A dense block of about `boxes` unit boxes aligned face to face, layers of a x a.
 void groundAndGridBlock(World& w, int boxes);
 
+// Scenes as a new user first builds them, after Bullet's own examples, on Bullet's default surface.
+// BasicDemo (its bodies may fall asleep, Bullet's default): an n x n x n lattice of 0.2 m boxes of 1 kg, 0.2 m apart (touching), dropped from
+// 2 m onto a large static box.
+void basicDemoLattice(World& w, int n);
+// A stepped 3D pyramid of unit boxes, base x base boxes in its lowest layer, one fewer each way
+// in each layer above (base 12: 650 boxes; base 20: 2,870, about BenchmarkDemo's 3,000). Awake
+// throughout, as a benchmark needs it.
+void groundAnd3dPyramid(World& w, int base);
+
 }  // namespace btscenes

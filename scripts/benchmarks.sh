@@ -65,40 +65,48 @@ PY
 fi
 
 mkdir -p build/bench
+# scene, size, steps: a new user's first scenes (Bullet's BasicDemo, a hinge chain, small stacks),
+# then larger ones up to the paper's.
 runs=(
+  "basic 5 300"
+  "chain 20 300"
+  "pyramid 10 300"
   "pyramid 20 300"
   "wall 10 300"
   "pile 1000 300"
-  "columns 12000 300"
-  "block 12000 30"
+  "pyramid3d 20 150"
   "ragdolls 200 600"
   "machine 64 600"
+  "columns 12000 300"
+  "block 12000 30"
 )
+names=()
 for run in "${runs[@]}"; do
   read -r scene size steps <<<"$run"
   echo "== $scene (size $size, $steps steps)" >&2
   "$bench" --scene "$scene" --size "$size" --steps 8 --solver ocl >/dev/null 2>&1 || true
-  "$bench" --scene "$scene" --size "$size" --steps "$steps" --iterations 10 --json "build/bench/$scene.json" >/dev/null
+  "$bench" --scene "$scene" --size "$size" --steps "$steps" --iterations 10 --json "build/bench/$scene-$size.json" >/dev/null
+  names+=("$scene-$size")
 done
-python3 - build/bench <<'PY'
+python3 - build/bench "${names[@]}" <<'PY'
 import json, os, sys
-folder = sys.argv[1]
-order = ["pyramid", "wall", "pile", "columns", "block", "ragdolls", "machine"]
-print("| scene | bodies | contact points | joint rows | SI ms/step | ours ms/step | ours / SI | groups | max penetration SI / ours | max joint error SI / ours | standing SI / ours |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+folder, names = sys.argv[1], sys.argv[2:]
+print("| scene | size | bodies | contact points | joint rows | SI ms/step | ours ms/step | ours / SI | SI p99 / max | ours p99 / max | p99 ours / SI | groups | max penetration SI / ours | max joint error SI / ours | standing SI / ours |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 def num(v):
     return "-" if v is None else "%.3f" % v
 def yn(v):
     return "-" if v is None else ("yes" if v else "no")
-for name in order:
-    path = os.path.join(folder, name + ".json")
-    if not os.path.exists(path):
-        continue
-    d = json.load(open(path))
+def ms(v):
+    return "%.3f" % v if v < 1 else "%.1f" % v
+for name in names:
+    d = json.load(open(os.path.join(folder, name + ".json")))
     si, o = d["si"], d["ours"]
-    print("| %s | %d | %d | %d | %.1f | %.1f | %.2f | %d | %.3f / %.3f | %s / %s | %s / %s |" % (
-        name, d["bodies"], d["contactPoints"], o["jointRows"], si["msPerStep"]["median"], o["msPerStep"]["median"],
-        d["ratioOursOverSi"], o["groups"], si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
+    ts, to = si["msPerStep"], o["msPerStep"]
+    print("| %s | %d | %d | %d | %d | %s | %s | %.2f | %s / %s | %s / %s | %.2f | %d | %.3f / %.3f | %s / %s | %s / %s |" % (
+        d["scene"], d["size"], d["bodies"], d["contactPoints"], o["jointRows"], ms(ts["median"]), ms(to["median"]),
+        d["ratioOursOverSi"], ms(ts["p99"]), ms(ts["max"]), ms(to["p99"]), ms(to["max"]), to["p99"] / ts["p99"],
+        o["groups"], si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
         num(si["quality"]["maxJointError"]), num(o["quality"]["maxJointError"]),
         yn(si["quality"]["stacksStanding"]), yn(o["quality"]["stacksStanding"])))
 PY

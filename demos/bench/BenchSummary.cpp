@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdint>
 
 namespace btbench {
@@ -20,10 +21,18 @@ using Json = nlohmann::ordered_json;
 // (and half a brick's height) separates the two with a wide margin either way.
 const btScalar kStandingDrift = 0.25f;
 
+// The worst steps are taken after the first few, which include one-off set-up (first touch of
+// fresh memory, kernels a run meets for the first time): a game feels them once, at load.
+constexpr size_t kTailFromStep = 5;
+
 Json timing(const std::vector<double>& ms) {
     Json t = Json::object();
     t["median"] = quantile(ms, 0.5);
     t["p90"] = quantile(ms, 0.9);
+    const std::vector<double> later(ms.begin() + long(std::min(kTailFromStep, ms.size())), ms.end());
+    t["p99"] = later.empty() ? Json() : Json(quantile(later, 0.99));
+    t["max"] = later.empty() ? Json() : Json(quantile(later, 1.0));
+    t["tailFromStep"] = kTailFromStep;
     t["mean"] = mean(ms);
     t["first"] = ms.empty() ? Json() : Json(ms.front());  // includes one-off set-up
     return t;

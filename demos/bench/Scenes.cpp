@@ -23,6 +23,8 @@ void buildTallStack(World& w, int height) {
     btscenes::groundAndColumn(w, std::max(1, height), roughSurface(), roughGround(10));
 }
 
+void buildHingeChain(World& w, int links) { btscenes::addHingeChain(w, btVector3(0, 10, 0), std::max(1, links)); }
+
 void buildBrickWall(World& w, int courses) {
     const int rows = std::max(1, courses);
     btscenes::BrickWall wall;
@@ -50,6 +52,12 @@ const std::vector<SceneInfo>& allScenes() {
          groundAndRagdollPile, 200, 600, 2, false},
         {"machine", "chains and double pendulums under beams, struck by motor-driven paddles; size = chains",
          groundAndMachine, 64, 600, 4, false},
+        {"basic", "Bullet's BasicDemo: a lattice of 0.2 m boxes dropped from 2 m, sleeping on; size = boxes a side",
+         basicDemoLattice, 5, 300, 3, false},
+        {"pyramid3d", "stepped 3D pyramid of unit boxes; size = boxes a side at the base",
+         groundAnd3dPyramid, 12, 300, 4, true},
+        {"chain", "a hinge chain pinned at one end, swinging down, sleeping on; size = links", buildHingeChain, 20, 300,
+         5, false},
     };
     return scenes;
 }
