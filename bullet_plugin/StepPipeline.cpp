@@ -1,6 +1,7 @@
 #include "StepPipeline.h"
 
 #include "BulletConversions.h"
+#include "HostRowSetup.h"
 #include "LayoutValidator.h"
 #include "StepWriteBack.h"
 
@@ -39,6 +40,40 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
     const auto t0 = std::chrono::steady_clock::now();
     const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints);
     const StepPlan step = planStep(m_plan, p, settings);
+    if (step.onHost())
+        solveOnHost(p, bullet, step, settings, s);
+    else
+        solveOnDevice(p, step, settings, s);
+    s.msDevice = msSince(t0);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    writeBackStep(p, bullet, info);
+    s.msWriteback = msSince(t1);
+    s.deviceBytes = double(m_runtime.bufferBytes());
+    s.numBodies = p.numBodies();
+    s.numContactPoints = p.numContactPoints();
+    s.numConstraintRows = p.numRows();
+    s.numJointRows = p.numJointRows();
+}
+
+// Every row set up on the calling thread (the contact rows from the points, as the setup kernel
+// does), then the passes in gather order: no device command at all.
+void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step,
+                               const SolveSettings& settings, btOpenCLSolverStats& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (p.rowsOnDevice) setupRowsOnHost(p, bullet);
+    s.msSetup = msSince(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    s.numIterationsRun = m_hostSolve.solve(p, step.passes(), settings);
+    s.msSolve = msSince(t1);
+    s.solvedOnHost = true;
+    s.numGroups = p.constraints.empty() ? 0 : 1;
+    s.numBatchesMax = s.numGroups;
+    s.numBatchesMean = s.numGroups;
+}
+
+void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
+                                 btOpenCLSolverStats& s) {
     checkStepFitsDevice(countsOf(p), m_limits);
 
     m_runtime.clearPhases();
@@ -72,13 +107,7 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
     m_runtime.beginPhase(DevicePhase::Download);
     s.numIterationsRun = m_solve.download(p, step, settings);  // the one wait
     m_runtime.endPhases();
-    s.msDevice = msSince(t0);
     fillDeviceStats(s, p, step);
-
-    const auto t1 = std::chrono::steady_clock::now();
-    writeBackStep(p, bullet, info);
-    s.msWriteback = msSince(t1);
-    s.deviceBytes = double(m_runtime.bufferBytes());
 }
 
 // What the device did: its phases' times (profiling events), the layout's counts, the step's.
@@ -96,10 +125,6 @@ void StepPipeline::fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p,
     s.numBatchesMax = layoutStats.numBatchesMax;
     s.numBatchesMean = layoutStats.numBatchesMean;
     s.numOverflowConstraints = layoutStats.numOverflowConstraints;
-    s.numBodies = p.numBodies();
-    s.numContactPoints = p.numContactPoints();
-    s.numConstraintRows = p.numRows();
-    s.numJointRows = p.numJointRows();
 }
 
 }  // namespace btocl

@@ -1,5 +1,7 @@
 // A gathered step through every stage after the gather, written once, in order:
-//   plan       how the step runs (planStep: whole or split, launch mode, passes)
+//   plan       how the step runs (planStep: on the host, or on the device whole or split, and
+//              its passes); a step on the host sets its rows up and runs its passes on the
+//              calling thread (HostRowSetup.h, HostSolve.h), then goes to the write-back
 //   fit        every buffer checked against the device's limits, before anything is enqueued
 //   upload     bodies, constraints, contact points and host rows to the device
 //   layout     the global split and the local batches (DeviceLayout), or one group
@@ -15,6 +17,7 @@
 #include "DeviceLayout.h"
 #include "DevicePrimitives.h"
 #include "DeviceSolver.h"
+#include "HostSolve.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
 #include "StepPolicy.h"
@@ -32,8 +35,8 @@ public:
     // Nothing queued may outlive the host memory it reads (the pinned memory).
     ~StepPipeline() { m_runtime.drain(); }
 
-    // Solves a gathered step and writes it back to Bullet; fills the stats' device phases, layout
-    // counts and host times of the device and write-back stages. Throws btOpenCLSolverError
+    // Solves a gathered step and writes it back to Bullet; fills the stats' phases, layout counts
+    // and host times of the solve and write-back stages. Throws btOpenCLSolverError
     // before the write-back, with nothing in the world changed.
     void run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info, btOpenCLSolverStats& stats);
 
@@ -45,6 +48,9 @@ public:
     const char* sortAndScanName() const { return m_primitives.backendName(); }
 
 private:
+    void solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step, const SolveSettings& settings,
+                     btOpenCLSolverStats& s);
+    void solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s);
     void fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const;
 
     // Members in the order they are made: each reads those above it.
@@ -56,6 +62,7 @@ private:
     const DeviceLimits m_limits;
     DeviceSolver m_solve;
     DeviceLayout m_layout;
+    HostSolve m_hostSolve;
 };
 
 // The global split's settings of a config.

@@ -1,11 +1,17 @@
 #include "StepPolicy.h"
 
+#include <cctype>
 #include <cstdlib>
 #include <limits>
 #include <string>
 
 namespace btocl {
 namespace {
+
+std::string lowercase(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
 
 // When a step runs whole in one launch of one work-group (no global split, no sets): when the
 // split and the sets' groups solved side by side would save less than they cost.
@@ -21,6 +27,25 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
     const double units = double(runtime.computeUnits());
     if (units <= 1) return std::numeric_limits<double>::infinity();
     return kWholeStepRowsPerUnitShare * units / (units - 1);
+}
+
+// Steps of at most this many rows are solved on the host when the solver decides (measured on
+// PoCL against the device's whole step: docs/performance.md).
+constexpr long long kHostStepMaxRows = 2048;
+
+long long resolveHostStepMaxRows(int asked) {
+    constexpr long long never = -1, always = std::numeric_limits<long long>::max();
+    if (asked == 0) return never;
+    if (asked > 0) return asked;
+    if (const char* env = std::getenv("BT_OPENCL_HOST_STEPS"); env && *env) {
+        const std::string value = lowercase(env);
+        if (value == "never") return never;
+        if (value == "always") return always;
+        if (value != "auto")
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_HOST_STEPS is '" + std::string(env) +
+                                      "'; it takes auto, never or always");
+    }
+    return kHostStepMaxRows;
 }
 
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
@@ -49,11 +74,13 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.sortAndScan = !plan.wide() ? Backend::Chunked : runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
     plan.wholeStepMaxRows = config.wholeStepMaxRows;
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime);
+    plan.hostStepMaxRows = resolveHostStepMaxRows(config.hostStepMaxRows);
     return plan;
 }
 
 StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings) {
     const btoclPassSchedule passes = passScheduleOf(settings, p);
+    if (p.numRows() <= solver.hostStepMaxRows) return StepPlan::onHost(passes);
     const bool whole = solver.wholeStepMaxRows >= 0 ? p.numRows() <= solver.wholeStepMaxRows
                        : solver.wide()             ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide
                                                    : double(p.numRows()) <= solver.autoWholeStepMaxRows;

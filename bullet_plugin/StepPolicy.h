@@ -16,15 +16,18 @@ struct SolverPlan {
     DevicePrimitives::Backend sortAndScan = DevicePrimitives::Backend::Chunked;
     int wholeStepMaxRows = -1;           // the config's: -1 automatic, 0 never, n: steps of at most n rows
     double autoWholeStepMaxRows = 0;     // serial path, automatic: by the device's compute units
+    long long hostStepMaxRows = -1;      // steps of at most this many rows on the host; -1: none
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
 };
 
 // The path asked for (or BT_OPENCL_SOLVE_PATH's, or the device type's) and its lanes, sort and
-// scan. Throws btOpenCLSolverError for an unknown BT_OPENCL_SOLVE_PATH.
+// scan; the steps solved on the host. Throws btOpenCLSolverError for an unknown
+// BT_OPENCL_SOLVE_PATH or BT_OPENCL_HOST_STEPS.
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime);
 
-// How this step runs: whole in one launch where the split would cost more than it saves, else
-// split and launched as the path does; and its passes.
+// How this step runs: on the host where a device launch would cost more than the step's work;
+// whole in one launch where the split would cost more than it saves; else split and launched as
+// the path does. And its passes.
 StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings);
 
 }  // namespace btocl

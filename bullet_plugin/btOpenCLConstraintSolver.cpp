@@ -25,6 +25,9 @@ const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
     if (c.wholeStepMaxRows < -1)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: wholeStepMaxRows must be -1 (automatic), 0 (never) or a "
                                   "row count, not " + std::to_string(c.wholeStepMaxRows));
+    if (c.hostStepMaxRows < -1)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: hostStepMaxRows must be -1 (automatic), 0 (never) or a "
+                                  "row count, not " + std::to_string(c.hostStepMaxRows));
     return c;
 }
 

@@ -1,6 +1,6 @@
 // One constraint's rows solved by projected Gauss-Seidel, btSequentialImpulseConstraintSolver's
 // row update, written once for the device (kernels/solve.cl, in parallel over a batch) and the
-// serial host reference (reference/HostSolver.cpp, one constraint after another).
+// serial host solve (bullet_plugin/step/HostSolve.cpp, one constraint after another).
 // Arrays are __global on the device and plain memory on the host (BTOCL_GLOBAL).
 #ifndef BTOCL_ROW_SOLVE_H
 #define BTOCL_ROW_SOLVE_H

@@ -3,7 +3,7 @@
 // so its lanes run without conflicts, and groups of one set share none either. On the serial
 // path a group is one batch and one lane walks it. The row update is
 // btSequentialImpulseConstraintSolver's (kernels/row_solve.h, shared with the serial host
-// reference, reference/HostSolver.cpp).
+// reference, bullet_plugin/step/HostSolve.cpp).
 //
 // Three launch modes (StepMode, StepPlan.h), each walking the step's passes (btoclPassAt):
 // - per set: one launch per set and pass, the groups of a set side by side (solveNormalRows, ...);

@@ -21,15 +21,16 @@ inline DevicePrimitives::Backend testBackend() {
 }
 inline GroupLanes testLanes() { return testsRunWide() ? GroupLanes::wide(64) : GroupLanes::serial(); }
 
-// A plan of the given mode on the path under test, with the step's passes (the claimed mode is
-// the serial path's: one lane a group).
+// A plan of the given mode on the path under test, with the step's passes (the claimed and host
+// modes are the serial path's: one lane a group).
 inline StepPlan testPlan(StepMode mode, const btoclPassSchedule& passes) {
     switch (mode) {
         case StepMode::WholeStep: return StepPlan::wholeStep(testLanes(), passes);
         case StepMode::PerSet: return StepPlan::perSet(testLanes(), passes);
-        case StepMode::Claimed: break;
+        case StepMode::Claimed: return StepPlan::claimed(passes);
+        case StepMode::Host: break;
     }
-    return StepPlan::claimed(passes);
+    return StepPlan::onHost(passes);
 }
 
 }  // namespace btocl::test

@@ -1,9 +1,9 @@
-// The device solve (kernels/solve.cl) against its serial host reference (HostSolver), on rows
+// The device solve (kernels/solve.cl) against its serial host reference (HostSolve), on rows
 // gathered from a real world: the same iterations to rounding, and the same stop on a residual.
 #include "DeviceLayout.h"
 #include "GatherAndSolve.h"
 #include "LayoutValidator.h"
-#include "HostSolver.h"
+#include "HostSolve.h"
 #include "JointScenes.h"
 #include "Scenes.h"
 #include "SerialLayout.h"

@@ -21,6 +21,17 @@ using namespace testworld;
 
 namespace {
 
+// Device failures need the device: small steps would otherwise be solved on the host.
+btOpenCLSolverConfig onTheDevice() {
+    btOpenCLSolverConfig c = validatingConfig();
+    c.hostStepMaxRows = 0;
+    return c;
+}
+
+}  // namespace
+
+namespace {
+
 // Turns injected faults off when a test ends, however it ends.
 struct NoFaultsAfter {
     ~NoFaultsAfter() { btocl::injectDeviceFault(0); }
@@ -86,7 +97,7 @@ std::vector<Mode> solverModes() {
 TEST_CASE("a rejected step leaves every body and every manifold point bitwise as it was, in every solver mode",
           "[errors][failed-step]") {
     NoFaultsAfter cleanup;
-    btOpenCLConstraintSolver solver(validatingConfig());
+    btOpenCLConstraintSolver solver(onTheDevice());
     for (const Mode& mode : solverModes()) {
         INFO("mode: " << mode.name);
         SettledPile p(solver, mode.prepare);
@@ -138,7 +149,7 @@ TEST_CASE("after a device failure at any point of a step, the next step is solve
     // Twin piles, each with its own solver: one fails at check k of a step, then both solve; the
     // two must agree bitwise (nothing of the failed step lingers in buffers, flags or queues).
     NoFaultsAfter cleanup;
-    btOpenCLConstraintSolver failingSolver(validatingConfig()), healthySolver(validatingConfig());
+    btOpenCLConstraintSolver failingSolver(onTheDevice()), healthySolver(onTheDevice());
     SettledPile failing(failingSolver), healthy(healthySolver);
     const long checks = checksPerSolve(failing);
     healthy.solve();
@@ -165,7 +176,7 @@ TEST_CASE("after a failed step the solver can be swapped for Bullet's and delete
     btConstraintSolver* bullets = w.dyn().getConstraintSolver();
     for (long nth = 2; nth <= 12; nth += 2) {
         INFO("device failure at check " << nth);
-        auto* ours = new btOpenCLConstraintSolver(validatingConfig());
+        auto* ours = new btOpenCLConstraintSolver(onTheDevice());
         w.dyn().setConstraintSolver(ours);
         w.step();  // the buffers exist: the next step's checks are the copies and launches
         btocl::injectDeviceFault(nth);
@@ -200,7 +211,7 @@ TEST_CASE("what a failed step queued is finished before the solver's memory goes
     // A step of free bodies has few checks; each of its first six fails once.
     long checks = 0;
     {
-        btOpenCLConstraintSolver counting;
+        btOpenCLConstraintSolver counting(onTheDevice());
         counting.solveGroup(objects.data(), int(objects.size()), nullptr, 0, nullptr, 0, info, nullptr, nullptr);
         btocl::injectDeviceFault(std::numeric_limits<long>::max());  // count, never fail
         counting.solveGroup(objects.data(), int(objects.size()), nullptr, 0, nullptr, 0, info, nullptr, nullptr);
@@ -210,7 +221,7 @@ TEST_CASE("what a failed step queued is finished before the solver's memory goes
     REQUIRE(checks >= 2);
     for (long nth = 1; nth <= std::min(checks, 6L); ++nth) {
         INFO("device failure at check " << nth << " of " << checks);
-        auto solver = std::make_unique<btOpenCLConstraintSolver>();
+        auto solver = std::make_unique<btOpenCLConstraintSolver>(onTheDevice());
         auto solve = [&] { solver->solveGroup(objects.data(), int(objects.size()), nullptr, 0, nullptr, 0, info, nullptr, nullptr); };
         solve();  // buffers made: the next solve's first checks are its copies
         const btVector3 before = boxes[123]->getLinearVelocity();
@@ -225,7 +236,7 @@ TEST_CASE("what a failed step queued is finished before the solver's memory goes
 namespace {
 
 btOpenCLSolverConfig fallingBack() {
-    btOpenCLSolverConfig c = validatingConfig();
+    btOpenCLSolverConfig c = onTheDevice();
     c.fallbackToBullet = true;
     return c;
 }
@@ -276,7 +287,8 @@ TEST_CASE("a caller who catches a failed step and calls clearForces() steps on a
     // stepSimulation skips clearForces() when the solver throws: without the call the next step
     // applies gravity twice (the header and the README say so).
     NoFaultsAfter cleanup;
-    World failing(SolverKind::OpenCL), healthy(SolverKind::OpenCL), forgetful(SolverKind::OpenCL);
+    World failing(SolverKind::OpenCL, onTheDevice()), healthy(SolverKind::OpenCL, onTheDevice()),
+        forgetful(SolverKind::OpenCL, onTheDevice());
     for (World* w : {&failing, &healthy, &forgetful}) {
         groundAndPile(*w, 20);
         for (int s = 0; s < 20; ++s) w->step();

@@ -5,7 +5,7 @@
 #include "BulletConversions.h"
 #include "BulletGather.h"
 #include "GatherAndSolve.h"
-#include "HostSolver.h"
+#include "HostSolve.h"
 #include "JointRows.h"
 #include "JointScenes.h"
 #include "JointWriteBack.h"

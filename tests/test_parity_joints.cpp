@@ -761,7 +761,7 @@ TEST_CASE("parity: random scenes of every joint type stay as SI's", "[parity][jo
     REQUIRE(allFinite(p.ours));
     if (const btOpenCLConstraintSolver* solver = p.ours.openCL()) {  // the path the scene's size asks for
         const btOpenCLSolverStats& stats = solver->getLastStats();
-        CHECK(stats.solvedWholeStep == (c.clusters <= 22));
+        CHECK((stats.solvedWholeStep || stats.solvedOnHost) == (c.clusters <= 22));  // one group
         if (c.clusters > 22) CHECK(stats.numGroups > 100);
     }
 

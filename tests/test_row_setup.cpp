@@ -3,7 +3,7 @@
 // pass) against the rows and warm-started solver bodies of Bullet's own solver, stopped after its
 // setup, on contacts gathered from a real world.
 #include "GatherAndSolve.h"
-#include "HostSolver.h"
+#include "HostSolve.h"
 #include "Scenes.h"
 #include "SerialLayout.h"
 #include "StepProblem.h"

@@ -28,12 +28,17 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
+    // The joints' rows, where the gather has set them up already: they follow the contact rows.
+    std::vector<btoclRow> jointRows;
+    if (p.rowsOnDevice) jointRows.swap(p.rows);
+    const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
     p.rows.assign(size_t(rollingBase), btoclRow{});
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
     for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
         btoclConstraint& c = p.constraints[ci];
         const btPersistentManifold* m = bullet.manifoldOfConstraint[ci];
+        if (!m) continue;  // a joint's
         c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size());
         const int firstPoint = c.firstRow[BTOCL_ROWS_NORMAL];
         for (int i = firstPoint; i < firstPoint + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {
@@ -75,6 +80,12 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
                                   int(rolling.size()), p.numJointRows());
     p.rows.insert(p.rows.end(), rolling.begin(), rolling.end());
+    // Rolling rows left out move the joints' rows down.
+    const int jointShift = p.rowStart(BTOCL_ROWS_JOINT) - jointStart;
+    for (btoclConstraint& c : p.constraints)
+        if (c.numRows[BTOCL_ROWS_JOINT] > 0) c.firstRow[BTOCL_ROWS_JOINT] += jointShift;
+    p.rows.insert(p.rows.end(), jointRows.begin(), jointRows.end());
+    p.rowsOnDevice = false;
 }
 
 }  // namespace btocl

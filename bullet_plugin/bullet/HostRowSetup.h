@@ -1,8 +1,9 @@
 // Contact rows set up on the host, with the same functions as the setup kernel
 // (kernels/row_setup.h) plus what the kernel does not handle: anisotropic friction, which
 // scales friction directions and rolling axes in each object's frame (SI's
-// applyAnisotropicFriction). The step uses it when an object of the step has anisotropic
-// friction; the tests use it to set rows up without a device.
+// applyAnisotropicFriction). The gather uses it when an object of the step has anisotropic
+// friction, a step solved on the host (StepMode::Host) for every step, and the tests to set rows
+// up without a device.
 #pragma once
 
 #include "BulletStep.h"
@@ -10,10 +11,11 @@
 
 namespace btocl {
 
-// Fills p.rows in gather order ([normal][friction][rolling]) and p.lateralDirs from p.points
-// (the manifolds' objects from `bullet`).
-// A rolling row whose anisotropic axis vanishes is left out, as SI leaves it out: the rolling
-// rows, and the constraints' and points' references to them, are renumbered.
+// Fills p.rows with every row in gather order ([normal][friction][rolling], then the joints' rows
+// where the gather has set them up already) and p.lateralDirs from p.points (the manifolds'
+// objects from `bullet`); clears p.rowsOnDevice. A rolling row whose anisotropic axis vanishes is
+// left out, as SI leaves it out: the rolling rows, the joints' rows after them, and the
+// constraints' and points' references to them, are renumbered.
 void setupRowsOnHost(StepProblem& p, const BulletStep& bullet);
 
 }  // namespace btocl

@@ -144,7 +144,9 @@ void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const Dev
         case StepMode::WholeStep: return launchWholeStep(plan, layout, s);
         case StepMode::PerSet: return launchPerSet(plan, layout, s);
         case StepMode::Claimed: return launchClaimed(p, plan, layout, s);
+        case StepMode::Host: break;
     }
+    throw btOpenCLSolverError("btOpenCLConstraintSolver: a step planned for the host was sent to the device");
 }
 
 int DeviceSolver::download(StepProblem& p, const StepPlan& plan, const SolveSettings& s) {

@@ -37,6 +37,11 @@ struct btOpenCLSolverConfig {
     // docs/architecture.md, "The plan and the passes"); 0: every step is split; n > 0: steps of at
     // most n rows.
     int wholeStepMaxRows = -1;
+    // A step this small is solved on the calling thread, without the device, with the same row
+    // code and in the order of a whole step: there a device launch would cost more than the step's
+    // work. -1: the solver decides (env BT_OPENCL_HOST_STEPS: "never", "always", else "auto", a
+    // threshold measured on PoCL, docs/performance.md); 0: never; n > 0: steps of at most n rows.
+    int hostStepMaxRows = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
     // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
@@ -70,6 +75,9 @@ struct btOpenCLSolverStats {
     // A small step is solved whole by one work-group in one launch, without the global split:
     // then it has one group (numCellGroups 0). Otherwise the cell groups plus the overflow group.
     bool solvedWholeStep = false;
+    // The step was solved on the calling thread (hostStepMaxRows): then msSetup and msSolve are
+    // the host's times of its row setup and passes, and the other device phases are 0.
+    bool solvedOnHost = false;
     int numGroups = 0;
     // Device memory the solver's buffers hold after the step (they are kept and grown, never
     // shrunk; the sort library's own scratch is not counted).

@@ -15,6 +15,8 @@ enum class StepMode {
     PerSet,     // the global split; one launch per set and pass, the groups of a set side by side
     Claimed,    // the global split; one launch of a single-lane work-group per compute unit, which
                 // claim each set's groups in turn (solve.cl: solveStepClaimed)
+    Host,       // no device: rows set up and passes run on the calling thread, in gather order
+                // (HostSolve.h), for a step too small to repay a device launch
 };
 
 // How a group's constraints meet the lanes, fixed for a solver by its path: the serial path walks
@@ -40,13 +42,19 @@ public:
     static StepPlan claimed(const btoclPassSchedule& passes) {
         return StepPlan(StepMode::Claimed, GroupLanes::serial(), passes);
     }
+    // The calling thread walks the constraints in gather order: the order of a whole step on the
+    // serial path.
+    static StepPlan onHost(const btoclPassSchedule& passes) {
+        return StepPlan(StepMode::Host, GroupLanes::serial(), passes);
+    }
 
     StepMode mode() const { return m_mode; }
     int lanesPerGroup() const { return m_lanes.lanes; }
     // Groups ordered as batches of constraints that share no dynamic body (else one run a group).
     bool localBatches() const { return m_lanes.localBatches; }
     // Every constraint in one group (set 0), no global split.
-    bool oneGroup() const { return m_mode == StepMode::WholeStep; }
+    bool oneGroup() const { return m_mode == StepMode::WholeStep || m_mode == StepMode::Host; }
+    bool onHost() const { return m_mode == StepMode::Host; }
     // The solve reads the split's set starts on the device, so the host does not wait for them.
     bool setStartsOnDevice() const { return m_mode == StepMode::Claimed; }
     const btoclPassSchedule& passes() const { return m_passes; }

@@ -16,6 +16,7 @@ struct BenchOptions {
     std::string solvePath = "auto";    // btOpenCLSolverConfig::solvePath
     std::string order = "fixed";       // btOpenCLSolverConfig::rotatePoints
     int wholeStepMaxRows = -1;         // btOpenCLSolverConfig::wholeStepMaxRows
+    int hostStepMaxRows = -1;          // btOpenCLSolverConfig::hostStepMaxRows
     bool withSiRandomized = false;     // a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER
     bool standIn = false;        // put a second Bullet SI solver where ours goes (checks the harness)
     bool validate = false;       // btOpenCLSolverConfig::validate

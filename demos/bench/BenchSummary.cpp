@@ -80,6 +80,8 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
     if (side.kind == SolverKind::OpenCL && side.ocl) {
         const btOpenCLSolverStats& st = side.lastStats;
         s["groups"] = st.numCellGroups;
+        s["stepsOnHost"] = side.stepsOnHost;
+        s["stepsWholeOnDevice"] = side.stepsWhole;
         s["batchesMax"] = st.numBatchesMax;
         s["batchesMean"] = st.numBatchesMean;
         s["overflowConstraints"] = st.numOverflowConstraints;

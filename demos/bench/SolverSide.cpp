@@ -69,6 +69,8 @@ void stepSolverSide(SolverSide& side, double dt) {
         side.lastRows = s.numConstraintRows;
         side.lastJointRows = s.numJointRows;
         side.maxDeviceBytes = std::max(side.maxDeviceBytes, s.deviceBytes);
+        side.stepsOnHost += s.solvedOnHost ? 1 : 0;
+        side.stepsWhole += s.solvedWholeStep ? 1 : 0;
         if (mostContactPoints) side.deviceBytesAtMostContactPoints = s.deviceBytes;
         if (s.validationFailures > 0 && side.validationFailures == 0)
             side.firstValidationFailure = "step " + std::to_string(side.stepsDone) + ": " + s.lastValidationMessage;

@@ -75,6 +75,7 @@ int run(const BenchOptions& options) {
                                                      : btOpenCLSolvePath::Auto;
     config.rotatePoints = options.order == "rotated";
     config.wholeStepMaxRows = options.wholeStepMaxRows;
+    config.hostStepMaxRows = options.hostStepMaxRows;
     std::unique_ptr<SolverSide> si, ours, siRandomized;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)

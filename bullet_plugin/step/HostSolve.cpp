@@ -1,0 +1,77 @@
+#include "HostSolve.h"
+
+#include "StepPlan.h"
+#include "row_setup.h"
+#include "row_solve.h"
+
+#include <algorithm>
+
+namespace btocl {
+
+// One pass over every set, group and batch in layout order, or over the constraints in gather
+// order; returns the largest squared residual. The iteration and m_numIterations matter to the
+// velocity passes (btoclSolveConstraint).
+float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration,
+                           int numIterations) {
+    const btoclSolveBuffers b{p.constraints.data(), m_rows.data(), m_normalOfRow.data(), m_applied.data(),
+                              m_pushApplied.data(), p.bodies.data(), p.deltas.data()};
+    float maxResidual2 = 0;
+    if (!layout) {
+        for (const btoclConstraint& c : p.constraints)
+            maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, &c, pass, flags, iteration, numIterations));
+        return maxResidual2;
+    }
+    for (const btoclGroup& g : layout->groups)
+        for (int k = 0; k < g.numBatches; ++k) {
+            const int begin = k == 0 ? g.offset : layout->batchEnd[size_t(g.offset + k - 1)];
+            const int end = layout->batchEnd[size_t(g.offset + k)];
+            for (int i = begin; i < end; ++i) {
+                const btoclConstraint* c = b.constraints + layout->solveOrder[size_t(i)];
+                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations));
+            }
+        }
+    return maxResidual2;
+}
+
+int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
+                     const BatchLayout* layout) {
+    const size_t n = p.rows.size();
+    m_rows.resize(n);
+    m_normalOfRow.assign(n, -1);
+    m_applied.resize(n);
+    m_pushApplied.resize(n);
+    for (const btoclConstraint& c : p.constraints)
+        for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind)
+            for (int r = c.firstRow[kind]; r < c.firstRow[kind] + c.numRows[kind]; ++r) {
+                const btoclRow& row = p.rows[size_t(r)];
+                m_rows[size_t(r)] = btoclSolveRowOf(row, kind);
+                m_normalOfRow[size_t(r)] = row.frictionIndex;
+                m_applied[size_t(r)] = BTOCL_ROW_APPLIED(row);
+                m_pushApplied[size_t(r)] = BTOCL_ROW_APPLIED_PUSH(row);
+            }
+    const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
+    int iterations = 0;
+    float residual2 = 0;
+    for (int i = 0; i < numPasses; ++i) {
+        const btoclPassStep step = btoclPassAt(passes, i);
+        residual2 = std::max(residual2,
+                             solvePass(p, layout, step.pass, settings.flags, step.iteration, passes.numIterations));
+        if (!step.endsIteration) continue;
+        if (step.pass != BTOCL_PASS_PUSH) ++iterations;
+        if (track && residual2 <= settings.residualThreshold) {
+            if (step.pass != BTOCL_PASS_PUSH) break;
+            i = btoclFirstVelocityPass(passes) - 1;  // the push iterations have converged
+        }
+        residual2 = 0;
+    }
+    p.appliedImpulses.assign(m_applied.begin(), m_applied.end());
+    return iterations;
+}
+
+int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings) {
+    HostSolve solve;
+    return solve.solve(p, passScheduleOf(settings, p), settings, &layout);
+}
+
+}  // namespace btocl

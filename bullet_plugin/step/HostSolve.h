@@ -1,0 +1,38 @@
+// A step's passes on the calling thread, with the row code the kernels run (kernels/row_solve.h):
+// the host launch mode, for steps too small to repay a device launch (StepMode::Host), and the
+// serial host reference that the tests hold the device's solve to. The same passes as the device
+// walks (passScheduleOf), over the constraints in a layout's order or in gather order.
+#pragma once
+
+#include "BatchLayout.h"
+#include "SolveSettings.h"
+#include "StepProblem.h"
+
+#include <vector>
+
+namespace btocl {
+
+class HostSolve {
+public:
+    // Solves the rows set up on the host (p.rows, every row, gather order) in `layout`'s order, or
+    // constraint after constraint in gather order without one: the warm start, the push and the
+    // velocity iterations of `passes`. Leaves p.deltas and p.appliedImpulses (every row, gather
+    // order) as DeviceSolver::download does. Returns the velocity iterations run. The scratch
+    // arrays are kept from call to call.
+    int solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
+              const BatchLayout* layout = nullptr);
+
+private:
+    float solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration, int numIterations);
+
+    // The rows as the passes read them (btoclSolveRow), with each friction and rolling row's normal
+    // row, and the impulses they update, all in gather order.
+    std::vector<btoclSolveRow> m_rows;
+    std::vector<int> m_normalOfRow;
+    std::vector<float> m_applied, m_pushApplied;
+};
+
+// The serial host reference of the device's solve: p's passes (passScheduleOf) in `layout`'s order.
+int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings);
+
+}  // namespace btocl
