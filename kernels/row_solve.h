@@ -174,12 +174,20 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    btoclSolveBody A = btoclLoadSolveBody(b->bodies + c->bodyA, b->deltas + c->bodyA, push, applyFactors);
-    btoclSolveBody B = btoclLoadSolveBody(b->bodies + c->bodyB, b->deltas + c->bodyB, push, applyFactors);
-    float maxResidual2 = 0.0f;
     // Contact rows take part while iteration < numIterations; joint rows come first, as in SI's
     // iteration, while the joint's own count allows (btoclSolveJointRows).
     const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
+    const int jointRows = (float)iteration < BTOCL_CONSTRAINT_ITERATIONS(*c) ? c->numRows[BTOCL_ROWS_JOINT] : 0;
+    // A pass with no row of this constraint leaves its bodies as they are: their loads and stores
+    // are skipped (a joint in the friction pass, a manifold past m_numIterations).
+    const int rowsOfPass = pass == BTOCL_PASS_FRICTION
+                               ? (contacts ? c->numRows[BTOCL_ROWS_FRICTION] + c->numRows[BTOCL_ROWS_ROLLING] : 0)
+                           : pass == BTOCL_PASS_NORMAL ? (contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0) + jointRows
+                                                       : c->numRows[BTOCL_ROWS_NORMAL];
+    if (rowsOfPass == 0) return 0.0f;
+    btoclSolveBody A = btoclLoadSolveBody(b->bodies + c->bodyA, b->deltas + c->bodyA, push, applyFactors);
+    btoclSolveBody B = btoclLoadSolveBody(b->bodies + c->bodyB, b->deltas + c->bodyB, push, applyFactors);
+    float maxResidual2 = 0.0f;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
             maxResidual2 = btoclSolveFrictionRows(b, c, BTOCL_ROWS_FRICTION, &A, &B, track);
