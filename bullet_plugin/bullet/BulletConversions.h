@@ -37,6 +37,13 @@ inline btoclBody bodyRecordOf(const btRigidBody& rb, bool solverBody) {
     return b;
 }
 
+// An object whose friction or rolling friction is anisotropic: the device's row setup does not
+// handle it (HostRowSetup.h).
+inline bool hasAnisotropicFriction(const btCollisionObject* o) {
+    return o->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
+                                     btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+}
+
 // What the iterations read of a btContactSolverInfo. rotatePoints: each iteration starts a
 // manifold's points at another one (btOpenCLSolverConfig).
 inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints) {

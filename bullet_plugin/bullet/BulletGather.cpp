@@ -63,11 +63,6 @@ void resizeForOverwrite(std::vector<T, Allocator>& v, size_t n) {
     v.resize(n);
 }
 
-bool hasAnisotropicFriction(const btCollisionObject* o) {
-    return o->hasAnisotropicFriction(btCollisionObject::CF_ANISOTROPIC_FRICTION |
-                                     btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
-}
-
 }  // namespace
 
 void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {

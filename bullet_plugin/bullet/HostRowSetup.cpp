@@ -39,6 +39,8 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
         btoclConstraint& c = p.constraints[ci];
         const btPersistentManifold* m = bullet.manifoldOfConstraint[ci];
         if (!m) continue;  // a joint's
+        // Most manifolds have none: their points skip the objects' reads.
+        const bool anisotropicPair = hasAnisotropicFriction(m->getBody0()) || hasAnisotropicFriction(m->getBody1());
         c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size());
         const int firstPoint = c.firstRow[BTOCL_ROWS_NORMAL];
         for (int i = firstPoint; i < firstPoint + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {
@@ -54,7 +56,8 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
                 btoclFloat4 axis0, axis1;
                 btoclPlaneSpace(pt.normalOnB, &axis0, &axis1);
                 for (btoclFloat4 axis : {axis0, axis1}) {
-                    axis = anisotropicForBoth(m, btoclNormalize3(axis), btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
+                    axis = btoclNormalize3(axis);
+                    if (anisotropicPair) axis = anisotropicForBoth(m, axis, btCollisionObject::CF_ANISOTROPIC_ROLLING_FRICTION);
                     if (btoclLength3(axis) > 0.001f)
                         rolling.push_back(btoclTorsionalRow(axis, BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, i));
                 }
@@ -63,10 +66,10 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
             btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
             if (ff.chosen) {
                 const int mode = btCollisionObject::CF_ANISOTROPIC_FRICTION;
-                ff.dir1 = anisotropicForBoth(m, ff.dir1, mode);
+                if (anisotropicPair) ff.dir1 = anisotropicForBoth(m, ff.dir1, mode);
                 // SI takes the second direction across the first one as anisotropy left it.
                 if (two && ff.fromVelocity) ff.dir2 = btoclNormalize3(btoclCross3(ff.dir1, pt.normalOnB));
-                if (two) ff.dir2 = anisotropicForBoth(m, ff.dir2, mode);
+                if (two && anisotropicPair) ff.dir2 = anisotropicForBoth(m, ff.dir2, mode);
             }
             p.lateralDirs[2 * size_t(i)] = ff.dir1;
             p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
