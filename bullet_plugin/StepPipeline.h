@@ -15,6 +15,7 @@
 #include "DeviceLayout.h"
 #include "DevicePrimitives.h"
 #include "DeviceSolver.h"
+#include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
 #include "StepPolicy.h"
@@ -31,6 +32,14 @@ public:
     explicit StepPipeline(const btOpenCLSolverConfig& config);
     // Nothing queued may outlive the host memory it reads (the pinned memory).
     ~StepPipeline() { m_runtime.drain(); }
+
+    // Compiles every kernel that this solver's steps can launch, by launching each on no work in
+    // the shapes the steps use (KernelWarmUp.h), and runs the sort and scan once; once per
+    // pipeline (later calls return at once). Changes nothing that a step reads. With `timing`,
+    // each kernel is launched and timed on its own and the times are left there. Throws
+    // btOpenCLSolverError.
+    void warmUp(KernelWarmUp* timing = nullptr);
+    bool warmedUp() const { return m_warmedUp; }
 
     // Solves a gathered step and writes it back to Bullet; fills the stats' device phases, layout
     // counts and host times of the device and write-back stages. Throws btOpenCLSolverError
@@ -56,6 +65,7 @@ private:
     const DeviceLimits m_limits;
     DeviceSolver m_solve;
     DeviceLayout m_layout;
+    bool m_warmedUp = false;
 };
 
 // The global split's settings of a config.

@@ -6,10 +6,15 @@
 //   startup --cold-warm            for each scene, a child process with POCL_CACHE_DIR set to a
 //                                  fresh empty directory (cold), then another on the same
 //                                  directory (warm); both runs' JSON in one object
+//   startup --kernels              the solver's parts apart, in the current PoCL cache: the
+//                                  runtime, the programs built, then each kernel's warm-up launch
+//                                  timed on its own (its compile, with an empty cache)
 // Scenes: basic (Bullet's BasicDemo: 125 boxes of 0.2 m falling 1.9 m onto a ground box) and
 // drop (3,000 unit boxes in a lattice, the lowest layer 1 m above the ground: the first contact
 // at step 27, a pile of some 30K rows by the end of the first second).
 #include "CliChecks.h"
+#include "KernelWarmUp.h"
+#include "StepPipeline.h"
 #include "btOpenCLConstraintSolver.h"
 #include "scenes/World.h"
 
@@ -138,6 +143,35 @@ Json runOnce(const std::string& scene, int boxes) {
     return out;
 }
 
+// The solver's start-up in its parts: the pipeline made (device, programs, kernel objects), the
+// sort and scan warmed up, then each kernel's warm-up launch on its own.
+Json kernelTimes() {
+    btOpenCLSolverConfig config;
+    auto t0 = std::chrono::steady_clock::now();
+    btocl::StepPipeline pipeline(config);
+    const double msPipeline = msSince(t0);
+    btocl::KernelWarmUp timed(pipeline.runtime(), true);
+    t0 = std::chrono::steady_clock::now();
+    pipeline.warmUp(&timed);
+    const double msWarmUp = msSince(t0);
+    Json kernels = Json::array();
+    double msKernels = 0;
+    for (const btocl::KernelWarmUp::Timing& t : timed.timings()) {
+        kernels.push_back({{"kernel", t.kernel}, {"local", t.local}, {"ms", rounded(t.ms)}});
+        msKernels += t.ms;
+    }
+    const char* cacheDir = std::getenv("POCL_CACHE_DIR");
+    Json out;
+    out["device"] = pipeline.runtime().deviceName();
+    out["pocl_cache_dir"] = cacheDir ? cacheDir : "(default)";
+    out["path"] = pipeline.plan().wide() ? "wide" : "serial";
+    out["pipeline_made_ms"] = rounded(msPipeline);
+    out["warm_up_ms"] = rounded(msWarmUp);
+    out["sort_and_scan_warm_up_ms"] = rounded(msWarmUp - msKernels);
+    out["kernels"] = std::move(kernels);
+    return out;
+}
+
 // Runs this program again for one scene (single mode) with POCL_CACHE_DIR=dir, its stdout read
 // through a pipe (its stderr is ours); `result` gets the JSON it printed, or null when that does
 // not parse. Returns its exit status, 1 when it exited 0 but printed no JSON.
@@ -193,7 +227,7 @@ std::string freshCacheDir() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool coldWarm = false;
+    bool coldWarm = false, kernels = false;
     std::vector<std::string> scenes;
     int boxes = 3000;
     CLI::App app("Start-up cost as a user meets it: makes a btOpenCLConstraintSolver (timed), then steps a\n"
@@ -201,6 +235,7 @@ int main(int argc, char** argv) {
                  "startup");
     app.add_flag("--cold-warm", coldWarm,
                  "per scene, two runs in child processes: cold (a fresh POCL_CACHE_DIR), then warm (the same one)");
+    app.add_flag("--kernels", kernels, "the solver's start-up in its parts, each kernel's warm-up timed apart");
     app.add_option("--scene", scenes, "basic (BasicDemo's 125 boxes) or drop (a lattice of --boxes unit boxes); "
                                       "default: drop alone, or both with --cold-warm")
         ->check(CLI::IsMember({"basic", "drop"}));
@@ -222,6 +257,10 @@ int main(int argc, char** argv) {
             }
             std::printf("%s\n", dumpJson(out).c_str());
             return rc;
+        }
+        if (kernels) {
+            std::printf("%s\n", dumpJson(kernelTimes()).c_str());
+            return 0;
         }
         if (scenes.size() > 1) throw std::runtime_error("one --scene at a time without --cold-warm");
         std::printf("%s\n", dumpJson(runOnce(scenes.empty() ? "drop" : scenes.front(), boxes)).c_str());

@@ -186,6 +186,41 @@ void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n
     takeSummary(m_summaryHost.data());
 }
 
+void DeviceLayout::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
+    constexpr size_t grid = KernelWarmUp::kGrid;
+    const size_t binBytes = sizeof(int) * BTOCL_SPLIT_NUM_KEYS;
+    const cl::Buffer z = warm.zeros(4096);
+    const size_t partBytes = sizeof(cl_float4) * kBoundsChunks;
+    const cl::Buffer partMin = warm.zeros(partBytes), partMax = warm.zeros(partBytes);
+    const cl::Buffer binStart = warm.zeros(binBytes), binEnd = warm.zeros(binBytes), flags = warm.zeros(binBytes);
+    const int none = 0;
+    setArgs(m_splitBounds, z, none, none, partMin, partMax);
+    warm.launch(m_splitBounds, kBoundsChunks, 0);
+    // The summary reads this grid (made from no bounds: one cell).
+    const cl::Buffer grid1 = warm.zeros(sizeof(btoclSplitGrid));
+    setArgs(m_splitGridSetup, partMin, partMax, none, 1.0f, grid1);
+    warm.launch(m_splitGridSetup, 1, 0);
+    setArgs(m_splitKeys, z, none, z, none, grid1, z, z);
+    warm.launch(m_splitKeys, grid, kLanes);
+    setArgs(m_splitClearBins, binStart, binEnd);
+    warm.launch(m_splitClearBins, BTOCL_SPLIT_NUM_KEYS, 0);
+    setArgs(m_splitMarkBins, z, none, binStart, binEnd);
+    warm.launch(m_splitMarkBins, grid, kLanes);
+    setArgs(m_splitBinFlags, binStart, binEnd, flags);
+    warm.launch(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0);
+    setArgs(m_splitWriteGroups, binStart, binEnd, flags, grid1, z, lanes.localBatches ? 0 : 1, z);  // no bin holds any
+    warm.launch(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0);
+    setArgs(m_splitWriteSummary, binStart, binEnd, flags, grid1, z);
+    warm.launch(m_splitWriteSummary, 1, 0);
+    if (!lanes.localBatches) return;
+    // Empty groups: the batch kernel finds nothing to batch.
+    const size_t wg = size_t(lanes.lanes);
+    const cl::Buffer groups = warm.zeros(sizeof(btoclGroup) * (grid / wg));
+    BatchProgram& batch = batchProgram(lanes.lanes);
+    setArgs(batch.kernel, z, z, groups, none, z, z);
+    warm.launch(batch.kernel, grid, wg);
+}
+
 const DeviceLayoutStats& DeviceLayout::stats() const {
     setGroupStart();  // takes a summary read back with the step's last wait
     if (m_statsReady) return m_stats;

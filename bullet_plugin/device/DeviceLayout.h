@@ -6,6 +6,7 @@
 #include "BatchLayout.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
+#include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "SplitPlan.h"
 #include "StepPlan.h"
@@ -61,6 +62,11 @@ public:
 
     // Constraints per streamed chunk of the batch kernel for a work-group size (fits local memory).
     int windowSize(int workGroupSize) const;
+
+    // Launches every kernel of the split, and with `lanes`' local batches the batch kernel for
+    // its work-group size, in their launch shapes, on no work (KernelWarmUp.h). Touches none of
+    // this object's buffers.
+    void warmUp(KernelWarmUp& warm, const GroupLanes& lanes);
 
 private:
     struct BatchProgram {

@@ -147,6 +147,54 @@ void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const Dev
     }
 }
 
+void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
+    constexpr size_t grid = KernelWarmUp::kGrid;
+    const cl::Buffer z = warm.zeros(4096);
+    const int none = 0;
+    setArgs(m_countRows, z, z, z, z, none);
+    warm.launch(m_countRows, grid, kLanes);
+    setArgs(m_placeConstraints, z, z, z, z, none, z, z, none);
+    warm.launch(m_placeConstraints, grid, kLanes);
+    setArgs(m_placeRows, z, none, z, z, z, z, z, none, btoclRowRegionsOf(0, 0, 0, 0));
+    warm.launch(m_placeRows, grid, kLanes);
+    btoclSetupParams noPoints{};
+    noPoints.numPoints = 0;
+    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints);
+    warm.launch(m_setupRows, grid, kLanes);
+    setArgs(m_impulsesToGatherOrder, z, z, z, none);
+    warm.launch(m_impulsesToGatherOrder, grid, kLanes);
+
+    // The solve: no groups, no passes (the set starts in `z` are all 0).
+    const btoclPassSchedule noPasses{};
+    const float noThreshold = 0;
+    auto bindScratch = [&](cl::Kernel& k, const cl::Buffer& control) {
+        setArgs(k, z, z, z, z, z, z, z, z, z, control);
+    };
+    const size_t wg = size_t(lanes.lanes);
+    bindScratch(m_wholeStep, z);
+    setArgsFrom(m_wholeStep, kSolveBufferArgs, none, none, noThreshold, noPasses);
+    warm.launch(m_wholeStep, wg, wg);
+    if (!lanes.localBatches) {  // the serial path: split steps are claimed (StepPolicy.cpp)
+        bindScratch(m_claimed, z);
+        setArgsFrom(m_claimed, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses);
+        warm.launch(m_claimed, m_rt.computeUnits(), 1);
+        return;
+    }
+    // A pass kernel returns at once when its kind of iterations has stopped.
+    std::array<int, BTOCL_CONTROL_SIZE> stopped{};
+    stopped[BTOCL_CONTROL_STOPPED] = stopped[BTOCL_CONTROL_PUSH_STOPPED] = 1;
+    const cl::Buffer control = warm.zeros(sizeof stopped);
+    checkCl(m_rt.queue().enqueueWriteBuffer(control, CL_TRUE, 0, sizeof stopped, stopped.data()),
+            "writing a warm-up buffer");
+    for (cl::Kernel& k : m_passKernels) {
+        bindScratch(k, control);
+        setArgsFrom(k, kSolveBufferArgs, none, none, none, none);
+        warm.launch(k, grid, wg);
+    }
+    setArgs(m_endIteration, control, noThreshold, none);
+    warm.launch(m_endIteration, 1, 1);
+}
+
 int DeviceSolver::download(StepProblem& p, const StepPlan& plan, const SolveSettings& s) {
     // Every copy enqueued, then one wait.
     m_deltas.enqueueDownload(m_rt, p.deltas);

@@ -6,6 +6,7 @@
 
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
+#include "KernelWarmUp.h"
 #include "SolveSettings.h"
 #include "StepPlan.h"
 #include "StepProblem.h"
@@ -41,6 +42,10 @@ public:
     // rows set up on the device, p.lateralDirs. Returns the velocity iterations the device ran.
     int download(StepProblem& p, const StepPlan& plan, const SolveSettings& settings);
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
+
+    // Launches every kernel that steps on `lanes` use, in their launch shapes, on no work
+    // (KernelWarmUp.h). Touches none of this object's buffers.
+    void warmUp(KernelWarmUp& warm, const GroupLanes& lanes);
 
 private:
     friend class DeviceSolveProbe;  // the tests' read-back of the rows (reference/DeviceSolveProbe.h)
