@@ -39,7 +39,8 @@ DeviceLayout::DeviceLayout(const OclRuntime& rt, DevicePrimitives& primitives) :
     m_splitBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
     m_splitWriteGroups = rt.makeKernel(m_splitProgram, "splitWriteGroups");
     m_splitWriteSummary = rt.makeKernel(m_splitProgram, "splitWriteSummary");
-    batchProgram(64);
+    // The batch kernel is built for its work-group size when a step or the warm-up first asks:
+    // the serial path never does.
 }
 
 int DeviceLayout::windowSize(int wg) const {

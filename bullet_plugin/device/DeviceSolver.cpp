@@ -122,13 +122,12 @@ void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView&
     m_rt.launch(m_wholeStep, lanes, lanes, "launching solveWholeStep");
 }
 
-// One single-lane work-group per compute unit: the device runs them side by side (more would
-// wait for a free unit and buy nothing; fewer would leave units idle). The progress block is
-// cleared on the device, in order before the launch.
+// Single-lane work-groups, for a split step one per compute unit: the device runs them side by
+// side (more would wait for a free unit and buy nothing; fewer would leave units idle). The
+// progress block is cleared on the device, in order before the launch.
 void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
-                                 const SolveSettings& s) {
+                                 const SolveSettings& s, int workGroups) {
     const btoclPassSchedule& passes = plan.passes();
-    const int workGroups = int(m_rt.computeUnits());
     m_progress.fill(m_rt, 0,
                     size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations)));
     bindSolveBuffers(m_claimed, layout);
@@ -140,11 +139,9 @@ void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, con
 void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                            const SolveSettings& s) {
     if (p.constraints.empty()) return;
-    switch (plan.mode()) {
-        case StepMode::WholeStep: return launchWholeStep(plan, layout, s);
-        case StepMode::PerSet: return launchPerSet(plan, layout, s);
-        case StepMode::Claimed: return launchClaimed(p, plan, layout, s);
-    }
+    if (plan.claimedLaunch()) return launchClaimed(p, plan, layout, s, plan.oneGroup() ? 1 : int(m_rt.computeUnits()));
+    if (plan.mode() == StepMode::PerSet) return launchPerSet(plan, layout, s);
+    launchWholeStep(plan, layout, s);
 }
 
 void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
@@ -170,15 +167,18 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     auto bindScratch = [&](cl::Kernel& k, const cl::Buffer& control) {
         setArgs(k, z, z, z, z, z, z, z, z, z, control);
     };
+    // Whole steps of one lane, and the serial path's split steps, are claimed (StepPlan::claimedLaunch).
     const size_t wg = size_t(lanes.lanes);
-    bindScratch(m_wholeStep, z);
-    setArgsFrom(m_wholeStep, kSolveBufferArgs, none, none, noThreshold, noPasses);
-    warm.launch(m_wholeStep, wg, wg);
-    if (!lanes.localBatches) {  // the serial path: split steps are claimed (StepPolicy.cpp)
+    if (wg == 1 || !lanes.localBatches) {
         bindScratch(m_claimed, z);
         setArgsFrom(m_claimed, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses);
         warm.launch(m_claimed, m_rt.computeUnits(), 1);
-        return;
+    }
+    if (!lanes.localBatches) return;
+    if (wg > 1) {
+        bindScratch(m_wholeStep, z);
+        setArgsFrom(m_wholeStep, kSolveBufferArgs, none, none, noThreshold, noPasses);
+        warm.launch(m_wholeStep, wg, wg);
     }
     // A pass kernel returns at once when its kind of iterations has stopped.
     std::array<int, BTOCL_CONTROL_SIZE> stopped{};

@@ -57,7 +57,7 @@ private:
                     const SolveSettings& settings);
     void launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
-                       const SolveSettings& settings);
+                       const SolveSettings& settings, int workGroups);
 
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
