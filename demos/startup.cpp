@@ -160,12 +160,16 @@ Json kernelTimes() {
         kernels.push_back({{"kernel", t.kernel}, {"local", t.local}, {"ms", rounded(t.ms)}});
         msKernels += t.ms;
     }
+    Json programs = Json::array();
+    for (const btocl::OclRuntime::ProgramBuild& b : pipeline.runtime().programBuilds())
+        programs.push_back({{"program", b.name}, {"ms", rounded(b.ms)}});
     const char* cacheDir = std::getenv("POCL_CACHE_DIR");
     Json out;
     out["device"] = pipeline.runtime().deviceName();
     out["pocl_cache_dir"] = cacheDir ? cacheDir : "(default)";
     out["path"] = pipeline.plan().wide() ? "wide" : "serial";
     out["pipeline_made_ms"] = rounded(msPipeline);
+    out["programs"] = std::move(programs);
     out["warm_up_ms"] = rounded(msWarmUp);
     out["sort_and_scan_warm_up_ms"] = rounded(msWarmUp - msKernels);
     out["kernels"] = std::move(kernels);

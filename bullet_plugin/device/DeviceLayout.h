@@ -75,20 +75,18 @@ private:
         int window = 0;
     };
     BatchProgram& batchProgram(int workGroupSize);
+    size_t boundsParts() const;
     void layOutOneGroup(int n);
     void takeSummary(const int* summary) const;
     void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params);
 
     const OclRuntime& m_rt;
-    cl::Program m_splitProgram;
     DevicePrimitives& m_prims;  // the stable sort by cell key and the scan over key bins
     bool m_localBatches = false, m_setStartsOnDevice = false;  // the plan of the last build
-    cl::Kernel m_splitBounds, m_splitGridSetup, m_splitKeys, m_splitClearBins, m_splitMarkBins, m_splitBinFlags, m_splitWriteGroups,
-        m_splitWriteSummary;
+    cl::Kernel m_splitBoundsAndGrid, m_splitKeys, m_splitMarkBins, m_splitWriteGroups;
     std::map<int, BatchProgram> m_batchPrograms;
 
-    DeviceBuffer<cl_float4> m_partMin, m_partMax;
     DeviceBuffer<btoclSplitGrid> m_grid;
     DeviceBuffer<cl_uchar> m_overflowBody;
     DeviceBuffer<cl_uint> m_keys;

@@ -104,7 +104,7 @@ DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend, bool w
     m_maxChunks = std::min<size_t>(4 * rt.computeUnits(), 256);  // a few chunks per core balance the load
 
     if (m_backend == Backend::Chunked) {
-        const cl::Program program = rt.buildProgramFile("primitives.cl");
+        const cl::Program& program = rt.stepProgram();  // primitives.cl among the step's kernels
         m_count = rt.makeKernel(program, "countChunkBuckets");
         m_scatter = rt.makeKernel(program, "scatterChunkBuckets");
         m_sumChunks = rt.makeKernel(program, "sumChunks");

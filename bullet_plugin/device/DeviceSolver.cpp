@@ -9,24 +9,21 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives)
     : m_rt(runtime), m_primitives(primitives) {
-    // A CPU's compiler is asked for software prefetch of scattered records (btocl_shared.h:
+    // On a CPU the program asks for software prefetch of scattered records (btocl_shared.h:
     // BTOCL_PREFETCHES): bodies in the solve and setup, constraints and impulses in the arrangement.
-    const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "";
-    m_solveProgram = m_rt.buildProgramFile("solve.cl", prefetch);
-    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
-    m_passKernels[BTOCL_PASS_PUSH] = m_rt.makeKernel(m_solveProgram, "solvePushRows");
-    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
-    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
-    m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
-    m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
-    m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
-    m_setupProgram = m_rt.buildProgramFile("setup.cl", prefetch);
-    m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
-    m_arrangeProgram = m_rt.buildProgramFile("arrange.cl", prefetch);
-    m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");
-    m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
-    m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");
-    m_impulsesToGatherOrder = m_rt.makeKernel(m_arrangeProgram, "impulsesToGatherOrder");
+    const cl::Program& program = m_rt.stepProgram();
+    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(program, "applyWarmStart");
+    m_passKernels[BTOCL_PASS_PUSH] = m_rt.makeKernel(program, "solvePushRows");
+    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(program, "solveNormalRows");
+    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(program, "solveFrictionRows");
+    m_endIteration = m_rt.makeKernel(program, "endIteration");
+    m_wholeStep = m_rt.makeKernel(program, "solveWholeStep");
+    m_claimed = m_rt.makeKernel(program, "solveStepClaimed");
+    m_setupRows = m_rt.makeKernel(program, "setupContactRows");
+    m_countRows = m_rt.makeKernel(program, "countRowsInSolveOrder");
+    m_placeConstraints = m_rt.makeKernel(program, "placeConstraints");
+    m_placeRows = m_rt.makeKernel(program, "placeRows");
+    m_impulsesToGatherOrder = m_rt.makeKernel(program, "impulsesToGatherOrder");
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the

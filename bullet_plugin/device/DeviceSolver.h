@@ -61,7 +61,6 @@ private:
 
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
-    cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
     cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_impulsesToGatherOrder;
     DeviceBuffer<btoclBody> m_bodies;
