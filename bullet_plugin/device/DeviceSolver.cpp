@@ -121,12 +121,17 @@ void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView&
 
 // Single-lane work-groups, for a split step one per compute unit: the device runs them side by
 // side (more would wait for a free unit and buy nothing; fewer would leave units idle). The
-// progress block is cleared on the device, in order before the launch.
+// progress block is cleared on the device, in order before the launch; a single work-group (a
+// whole step) clears it itself, which saves the fill command.
 void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                                  const SolveSettings& s, int workGroups) {
     const btoclPassSchedule& passes = plan.passes();
-    m_progress.fill(m_rt, 0,
-                    size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations)));
+    const size_t progressInts =
+        size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations));
+    if (workGroups > 1)
+        m_progress.fill(m_rt, 0, progressInts);
+    else
+        m_progress.reserve(m_rt, progressInts);
     bindSolveBuffers(m_claimed, layout);
     setArgsFrom(m_claimed, kSolveBufferArgs, *layout.setGroupStartOnDevice, m_progress.buffer(),
                 int(p.constraints.size()), s.flags, s.residualThreshold, passes);
