@@ -8,12 +8,16 @@
 //                                  directory (warm); both runs' JSON in one object
 //   startup --kernels              the solver's parts apart, in the current PoCL cache: the
 //                                  runtime, the programs built, then each kernel's warm-up launch
-//                                  timed on its own (its compile, with an empty cache)
+//                                  timed on its own (its compile, with an empty cache); with
+//                                  --boost also the Boost.Compute backend made (not used by the
+//                                  serial path): first, again on the same context, on a new one
 // Scenes: basic (Bullet's BasicDemo: 125 boxes of 0.2 m falling 1.9 m onto a ground box) and
 // drop (3,000 unit boxes in a lattice, the lowest layer 1 m above the ground: the first contact
 // at step 27, a pile of some 30K rows by the end of the first second).
 #include "CliChecks.h"
+#include "DevicePrimitives.h"
 #include "KernelWarmUp.h"
+#include "OclRuntime.h"
 #include "StepPipeline.h"
 #include "btOpenCLConstraintSolver.h"
 #include "scenes/World.h"
@@ -161,7 +165,7 @@ Json runOnce(const std::string& scene, int boxes, bool bullet) {
 
 // The solver's start-up in its parts: the pipeline made (device, programs, kernel objects), the
 // sort and scan warmed up, then each kernel's warm-up launch on its own.
-Json kernelTimes() {
+Json kernelTimes(bool withBoost) {
     btOpenCLSolverConfig config;
     auto t0 = std::chrono::steady_clock::now();
     btocl::StepPipeline pipeline(config);
@@ -189,6 +193,22 @@ Json kernelTimes() {
     out["warm_up_ms"] = rounded(msWarmUp);
     out["sort_and_scan_warm_up_ms"] = rounded(msWarmUp - msKernels);
     out["kernels"] = std::move(kernels);
+    if (withBoost) {
+        // Boost.Compute keeps its compiled programs per OpenCL context, in memory only.
+        using btocl::DevicePrimitives;
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives first(pipeline.runtime(), DevicePrimitives::Backend::BoostCompute);
+        const double msFirst = msSince(t0);
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives sameContext(pipeline.runtime(), DevicePrimitives::Backend::BoostCompute);
+        const double msSame = msSince(t0);
+        btocl::OclRuntime other("");
+        t0 = std::chrono::steady_clock::now();
+        DevicePrimitives newContext(other, DevicePrimitives::Backend::BoostCompute);
+        out["boost_compute_construct_ms"] = {{"first", rounded(msFirst)},
+                                             {"again_same_context", rounded(msSame)},
+                                             {"new_context", rounded(msSince(t0))}};
+    }
     return out;
 }
 
@@ -247,7 +267,7 @@ std::string freshCacheDir() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool coldWarm = false, kernels = false, bullet = false;
+    bool coldWarm = false, kernels = false, bullet = false, withBoost = false;
     std::vector<std::string> scenes;
     int boxes = 3000;
     CLI::App app("Start-up cost as a user meets it: makes a btOpenCLConstraintSolver (timed), then steps a\n"
@@ -259,6 +279,7 @@ int main(int argc, char** argv) {
     app.add_option("--scene", scenes, "basic (BasicDemo's 125 boxes) or drop (a lattice of --boxes unit boxes); "
                                       "default: drop alone, or both with --cold-warm")
         ->check(CLI::IsMember({"basic", "drop"}));
+    app.add_flag("--boost", withBoost, "with --kernels: also time making the Boost.Compute backend");
     app.add_flag("--bullet", bullet, "step the scene with Bullet's own solver instead (for the scene's own slow steps)");
     app.add_option("--boxes", boxes, "boxes of the drop scene (default 3000)")->transform(btdemo::integerIn(1, 1000000));
     if (const std::optional<int> status = btdemo::parseOrExitCode(app, argc, argv, "startup")) return *status;
@@ -280,7 +301,7 @@ int main(int argc, char** argv) {
             return rc;
         }
         if (kernels) {
-            std::printf("%s\n", dumpJson(kernelTimes()).c_str());
+            std::printf("%s\n", dumpJson(kernelTimes(withBoost)).c_str());
             return 0;
         }
         if (scenes.size() > 1) throw std::runtime_error("one --scene at a time without --cold-warm");
