@@ -30,10 +30,21 @@ StepPipeline::StepPipeline(const btOpenCLSolverConfig& config)
       m_plan(planSolver(config, m_runtime)),
       // A device with memory of its own copies the step's arrays by DMA from pinned memory.
       m_pinned(m_runtime.hostUnifiedMemory() ? nullptr : std::make_unique<PinnedHostMemory>(m_runtime)),
-      m_primitives(m_runtime, m_plan.sortAndScan),
+      m_primitives(m_runtime, m_plan.sortAndScan, false),  // warmed up by warmUp()
       m_limits(deviceLimitsOf(m_runtime)),
       m_solve(m_runtime, m_primitives),
       m_layout(m_runtime, m_primitives) {}
+
+void StepPipeline::warmUp(KernelWarmUp* timing) {
+    if (m_warmedUp) return;
+    KernelWarmUp untimed(m_runtime);
+    KernelWarmUp& warm = timing ? *timing : untimed;
+    m_primitives.warmUp();
+    m_solve.warmUp(warm, m_plan.lanes);
+    m_layout.warmUp(warm, m_plan.lanes);
+    warm.finish();
+    m_warmedUp = true;
+}
 
 void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info,
                        btOpenCLSolverStats& s) {

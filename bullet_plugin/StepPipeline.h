@@ -18,6 +18,7 @@
 #include "DevicePrimitives.h"
 #include "DeviceSolver.h"
 #include "HostSolve.h"
+#include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
 #include "StepPolicy.h"
@@ -34,6 +35,14 @@ public:
     explicit StepPipeline(const btOpenCLSolverConfig& config);
     // Nothing queued may outlive the host memory it reads (the pinned memory).
     ~StepPipeline() { m_runtime.drain(); }
+
+    // Compiles every kernel that this solver's steps can launch, by launching each on no work in
+    // the shapes the steps use (KernelWarmUp.h), and runs the sort and scan once; once per
+    // pipeline (later calls return at once). Changes nothing that a step reads. With `timing`,
+    // each kernel is launched and timed on its own and the times are left there. Throws
+    // btOpenCLSolverError.
+    void warmUp(KernelWarmUp* timing = nullptr);
+    bool warmedUp() const { return m_warmedUp; }
 
     // Solves a gathered step and writes it back to Bullet; fills the stats' phases, layout counts
     // and host times of the solve and write-back stages. Throws btOpenCLSolverError
@@ -63,6 +72,7 @@ private:
     DeviceSolver m_solve;
     DeviceLayout m_layout;
     HostSolve m_hostSolve;
+    bool m_warmedUp = false;
 };
 
 // The global split's settings of a config.

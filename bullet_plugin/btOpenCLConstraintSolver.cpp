@@ -39,6 +39,7 @@ struct btOpenCLConstraintSolver::Impl {
           pipeline(config),
           fallback(c.fallbackToBullet ? std::make_unique<btocl::SequentialFallback>() : nullptr) {
         gatherer.useHostMemory(pipeline.hostMemory());
+        if (config.warmUpAtConstruction) pipeline.warmUp();
     }
     // Nothing queued may outlive the host memory it reads: the gatherer's arrays die first.
     ~Impl() { pipeline.runtime().drain(); }
@@ -162,6 +163,8 @@ void btOpenCLConstraintSolver::allSolved(const btContactSolverInfo&, btIDebugDra
     m_impl->inStep = false;
     m_impl->run();
 }
+
+void btOpenCLConstraintSolver::warmUp() { m_impl->pipeline.warmUp(); }
 
 void btOpenCLConstraintSolver::reset() {}
 btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return BT_SEQUENTIAL_IMPULSE_SOLVER; }

@@ -166,7 +166,7 @@ BTOCL_INLINE btoclPassStep btoclPassAt(btoclPassSchedule s, int index) {
 #define BTOCL_CONTROL_PUSH_RESIDUAL 4
 #define BTOCL_CONTROL_SIZE 8
 
-// The progress buffer of solveStepClaimed (kernels/solve.cl), all zero at the launch, in ints:
+// The progress buffer of solveStepClaimed (kernels/solve.cl), all zero before any work-group reads it, in ints:
 // each work-group's count of finished groups, a cache line apart (written by its owner, read by
 // the others while they wait); one squared residual per iteration (float bits), the split-
 // impulse iterations first; then each work-group's claim counters, one per pass and set.

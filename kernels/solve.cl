@@ -185,7 +185,8 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // once it has found every group of the set taken, and a group is taken only by a running
 // work-group, which finishes it without waiting on anything (one that never starts takes none).
 // setGroupStart: BTOCL_NUM_SETS + 2 ints, read here so that the host need not wait for the
-// split. progress: all zero (btoclProgressSize ints, laid out as btocl_shared.h says).
+// split. progress: btoclProgressSize ints, laid out as btocl_shared.h says, all zero (a single
+// work-group clears them itself).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numConstraints, int flags,
     float threshold, btoclPassSchedule schedule) {
@@ -203,6 +204,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     __global int* residuals = progress + btoclProgressResiduals(numRanges);
     __global int* claims = progress + btoclProgressClaims(numRanges, schedule.pushIterations, schedule.maxIterations);
     const int claimsPerGroup = btoclProgressClaimsPerGroup(numPasses);
+    if (numRanges == 1)  // a whole step: the block is this work-group's alone, and not cleared by the host
+        for (int k = btoclProgressSize(1, numPasses, schedule.pushIterations, schedule.maxIterations) - 1; k >= 0; --k)
+            progress[k] = 0;
     int finishedHere = 0, iterationsRun = schedule.maxIterations;
     for (int passIndex = 0; passIndex < numPasses; ++passIndex) {
         const btoclPassStep p = btoclPassAt(schedule, passIndex);

@@ -5,10 +5,12 @@
 #include "split_grid.h"
 
 
-// Work-item p: bounds of the positions of constraints [p * chunk, (p + 1) * chunk).
-__kernel void splitBounds(__global const btoclConstraint* constraints, int n, int chunk,
-                          __global float4* partMin, __global float4* partMax) {
-    const int p = get_global_id(0);
+// One work-group: work-item p takes the bounds of the positions of constraints
+// [p * chunk, (p + 1) * chunk), then work-item 0 the whole box from the parts, in order, and the
+// grid of this step.
+__kernel void splitBoundsAndGrid(__global const btoclConstraint* constraints, int n, int chunk, float baseCell,
+                                 __global btoclSplitGrid* grid, __local float4* partMin, __local float4* partMax) {
+    const int p = get_local_id(0);
     const int begin = min(n, p * chunk), end = min(n, begin + chunk);
     float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
     for (int i = begin; i < end; ++i) {
@@ -18,16 +20,13 @@ __kernel void splitBounds(__global const btoclConstraint* constraints, int n, in
     }
     partMin[p] = lo;
     partMax[p] = hi;
-}
-
-// One work-item: the whole box, then the grid of this step.
-__kernel void splitGridSetup(__global const float4* partMin, __global const float4* partMax, int parts,
-                             float baseCell, __global btoclSplitGrid* grid) {
-    if (get_global_id(0) != 0) return;
-    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
-    for (int p = 0; p < parts; ++p) {
-        lo = fmin(lo, partMin[p]);
-        hi = fmax(hi, partMax[p]);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (p != 0) return;
+    lo = (float4)(INFINITY);
+    hi = (float4)(-INFINITY);
+    for (int q = 0; q < (int)get_local_size(0); ++q) {
+        lo = fmin(lo, partMin[q]);
+        hi = fmax(hi, partMax[q]);
     }
     *grid = btoclMakeSplitGrid(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, baseCell);
 }
@@ -54,33 +53,37 @@ __kernel void splitKeys(__global const btoclConstraint* constraints, int n, __gl
     indices[i] = i;
 }
 
-// Key ranges of the sorted keys: bins start empty (0, 0).
-__kernel void splitClearBins(__global int* binStart, __global int* binEnd) {
-    const int b = get_global_id(0);
-    binStart[b] = 0;
-    binEnd[b] = 0;
-}
-
-__kernel void splitMarkBins(__global const uint* keys, int n, __global int* binStart, __global int* binEnd) {
+// Key ranges of the sorted keys, and a flag on each non-empty bin. binStart, binEnd and flags
+// start all 0 (filled by the host).
+__kernel void splitMarkBins(__global const uint* keys, int n, __global int* binStart, __global int* binEnd,
+                            __global int* flags) {
     const int i = get_global_id(0);
     if (i >= n) return;
     const uint k = keys[i];
-    if (i == 0 || keys[i - 1] != k) binStart[k] = i;
+    if (i == 0 || keys[i - 1] != k) {
+        binStart[k] = i;
+        flags[k] = 1;
+    }
     if (i == n - 1 || keys[i + 1] != k) binEnd[k] = i + 1;
 }
 
-__kernel void splitBinFlags(__global const int* binStart, __global const int* binEnd, __global int* flags) {
-    const int b = get_global_id(0);
-    flags[b] = binEnd[b] > binStart[b] ? 1 : 0;
-}
-
-// groupOfBin: the exclusive scan of the flags, i.e. the group index of each non-empty bin.
-// serialRuns: the serial path builds no local batches; each group is then one run, walked in order
-// by one work-item (numBatches 1, its batch ending at the group's end).
+// One work-item per bin. groupOfBin: the exclusive scan of the flags, i.e. the group index of
+// each non-empty bin. serialRuns: the serial path builds no local batches; each group is then one
+// run, walked in order by one work-item (numBatches 1, its batch ending at the group's end).
+// Work-item 0 also writes the summary: [0..5] setGroupStart, [6] overflow constraints, [7] the
+// cell edge's bits. The overflow key is the largest key there is, so it closes the count of groups.
 __kernel void splitWriteGroups(__global const int* binStart, __global const int* binEnd, __global const int* groupOfBin,
                                __global const btoclSplitGrid* gridIn, __global btoclGroup* groups, int serialRuns,
-                               __global int* batchEnd) {
+                               __global int* batchEnd, __global int* summary) {
     const int b = get_global_id(0);
+    if (b == 0) {
+        const btoclSplitGrid g = *gridIn;
+        const int overflowCount = binEnd[g.overflowKey] - binStart[g.overflowKey];
+        for (int s = 0; s <= BTOCL_NUM_SETS; ++s) summary[s] = groupOfBin[s * g.cellsPerSet];
+        summary[BTOCL_NUM_SETS + 1] = groupOfBin[g.overflowKey] + (overflowCount > 0 ? 1 : 0);
+        summary[BTOCL_NUM_SETS + 2] = overflowCount;
+        summary[BTOCL_NUM_SETS + 3] = as_int(g.cellSize);
+    }
     if (binEnd[b] <= binStart[b]) return;
     btoclGroup g;
     g.offset = binStart[b];
@@ -89,18 +92,4 @@ __kernel void splitWriteGroups(__global const int* binStart, __global const int*
     g.cell = btoclSplitCellOfKey(*gridIn, b);
     groups[groupOfBin[b]] = g;
     if (serialRuns) batchEnd[g.offset] = g.offset + g.count;
-}
-
-// One work-item. summary: [0..5] setGroupStart, [6] overflow constraints, [7] the cell edge's bits.
-// The overflow key is the largest key there is, so it closes the count of groups.
-__kernel void splitWriteSummary(__global const int* binStart, __global const int* binEnd,
-                                __global const int* groupOfBin, __global const btoclSplitGrid* gridIn,
-                                __global int* summary) {
-    if (get_global_id(0) != 0) return;
-    const btoclSplitGrid g = *gridIn;
-    const int overflowCount = binEnd[g.overflowKey] - binStart[g.overflowKey];
-    for (int s = 0; s <= BTOCL_NUM_SETS; ++s) summary[s] = groupOfBin[s * g.cellsPerSet];
-    summary[BTOCL_NUM_SETS + 1] = groupOfBin[g.overflowKey] + (overflowCount > 0 ? 1 : 0);
-    summary[BTOCL_NUM_SETS + 2] = overflowCount;
-    summary[BTOCL_NUM_SETS + 3] = as_int(g.cellSize);
 }

@@ -10,7 +10,7 @@
 namespace btocl {
 namespace {
 
-constexpr int kBoundsChunks = 128;   // work-items of the bounding-box reduction
+constexpr size_t kBoundsChunks = 128;  // work-items of the bounding-box reduction, at most
 constexpr int kSummaryInts = BTOCL_NUM_SETS + 4;
 constexpr size_t kLanes = 64;        // local size of the launches whose global size follows n
 constexpr int kPreferredWindow = 512; // constraints per streamed chunk; big enough that a batch
@@ -29,18 +29,19 @@ size_t batchLocalBytes(int wg, int window) {
 }  // namespace
 
 DeviceLayout::DeviceLayout(const OclRuntime& rt, DevicePrimitives& primitives) : m_rt(rt), m_prims(primitives) {
-    // Correctly rounded division: the grid's 1 / cell must equal the host reference's bit for bit.
-    m_splitProgram = rt.buildProgramFile("split.cl", "-cl-fp32-correctly-rounded-divide-sqrt");
-    m_splitBounds = rt.makeKernel(m_splitProgram, "splitBounds");
-    m_splitGridSetup = rt.makeKernel(m_splitProgram, "splitGridSetup");
-    m_splitKeys = rt.makeKernel(m_splitProgram, "splitKeys");
-    m_splitClearBins = rt.makeKernel(m_splitProgram, "splitClearBins");
-    m_splitMarkBins = rt.makeKernel(m_splitProgram, "splitMarkBins");
-    m_splitBinFlags = rt.makeKernel(m_splitProgram, "splitBinFlags");
-    m_splitWriteGroups = rt.makeKernel(m_splitProgram, "splitWriteGroups");
-    m_splitWriteSummary = rt.makeKernel(m_splitProgram, "splitWriteSummary");
-    batchProgram(64);
+    // Built with correctly rounded division: the grid's 1 / cell must equal the host reference's
+    // bit for bit.
+    const cl::Program& split = rt.stepProgram();
+    m_splitBoundsAndGrid = rt.makeKernel(split, "splitBoundsAndGrid");
+    m_splitKeys = rt.makeKernel(split, "splitKeys");
+    m_splitMarkBins = rt.makeKernel(split, "splitMarkBins");
+    m_splitWriteGroups = rt.makeKernel(split, "splitWriteGroups");
+    // The batch kernel is built for its work-group size when a step or the warm-up first asks:
+    // the serial path never does.
 }
+
+// Work-items of the bounds' one work-group: each takes a chunk of the constraints.
+size_t DeviceLayout::boundsParts() const { return std::min<size_t>(kBoundsChunks, m_rt.maxWorkGroupSize()); }
 
 int DeviceLayout::windowSize(int wg) const {
     if (wg < 1 || size_t(wg) > m_rt.maxWorkGroupSize())
@@ -140,20 +141,17 @@ void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n
     m_overflowHost.assign(plan.overflowBody.begin(), plan.overflowBody.end());
     if (m_overflowHost.empty()) m_overflowHost.push_back(0);  // no zero-sized buffers
     m_overflowBody.enqueueWrite(rt, m_overflowHost);
-    m_partMin.reserve(rt, kBoundsChunks);
-    m_partMax.reserve(rt, kBoundsChunks);
     m_grid.reserve(rt, 1);
     m_keys.reserve(rt, size_t(n));
-    for (DeviceBuffer<int>* b : {&m_binStart, &m_binEnd, &m_groupOfBin}) b->reserve(rt, BTOCL_SPLIT_NUM_KEYS);
     m_summary.reserve(rt, kSummaryInts);
 
-    const int chunk = (n + kBoundsChunks - 1) / kBoundsChunks;
+    const size_t parts = boundsParts();
+    const int chunk = int((size_t(n) + parts - 1) / parts);
     const cl::Buffer& cb = constraints.buffer();
 
-    setArgs(m_splitBounds, cb, n, chunk, m_partMin.buffer(), m_partMax.buffer());
-    m_rt.launch(m_splitBounds, kBoundsChunks, 0, "enqueueing splitBounds");
-    setArgs(m_splitGridSetup, m_partMin.buffer(), m_partMax.buffer(), kBoundsChunks, plan.baseCellSize, m_grid.buffer());
-    m_rt.launch(m_splitGridSetup, 1, 0, "enqueueing splitGridSetup");
+    setArgs(m_splitBoundsAndGrid, cb, n, chunk, plan.baseCellSize, m_grid.buffer(), cl::Local(parts * sizeof(cl_float4)),
+            cl::Local(parts * sizeof(cl_float4)));
+    m_rt.launch(m_splitBoundsAndGrid, parts, parts, "enqueueing splitBoundsAndGrid");
     setArgs(m_splitKeys, cb, n, m_overflowBody.buffer(), int(bodies.size()), m_grid.buffer(), m_keys.buffer(),
             m_sorted.buffer());
     m_rt.launch(m_splitKeys, size_t(n), kLanes, "enqueueing splitKeys");
@@ -161,20 +159,15 @@ void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n
     // Stable sort by key (kernels/primitives.cl); keys < 2^16 by construction, so no key check.
     m_prims.sortByKeySmallRange(m_keys.buffer(), m_sorted.buffer(), size_t(n), BTOCL_SPLIT_NUM_KEYS, false);
 
-    // Groups: one per non-empty key, numbered by a scan over the key bins.
-    setArgs(m_splitClearBins, m_binStart.buffer(), m_binEnd.buffer());
-    m_rt.launch(m_splitClearBins, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitClearBins");
-    setArgs(m_splitMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer());
+    // Groups: one per non-empty key, numbered by a scan over the flags of the key bins. The bins
+    // start empty: filled, not cleared by a kernel (one kernel fewer to compile).
+    for (DeviceBuffer<int>* b : {&m_binStart, &m_binEnd, &m_groupOfBin}) b->fill(rt, 0, BTOCL_SPLIT_NUM_KEYS);
+    setArgs(m_splitMarkBins, m_keys.buffer(), n, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
     m_rt.launch(m_splitMarkBins, size_t(n), kLanes, "enqueueing splitMarkBins");
-    setArgs(m_splitBinFlags, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer());
-    m_rt.launch(m_splitBinFlags, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitBinFlags");
     m_prims.exclusiveScan(m_groupOfBin.buffer(), m_groupOfBin.buffer(), BTOCL_SPLIT_NUM_KEYS);
     setArgs(m_splitWriteGroups, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
-            m_groups.buffer(), m_localBatches ? 0 : 1, m_batchEnd.buffer());
+            m_groups.buffer(), m_localBatches ? 0 : 1, m_batchEnd.buffer(), m_summary.buffer());
     m_rt.launch(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0, "enqueueing splitWriteGroups");
-    setArgs(m_splitWriteSummary, m_binStart.buffer(), m_binEnd.buffer(), m_groupOfBin.buffer(), m_grid.buffer(),
-            m_summary.buffer());
-    m_rt.launch(m_splitWriteSummary, 1, 0, "enqueueing splitWriteSummary");
 
     if (m_setStartsOnDevice) {  // read with the step's last wait
         m_summary.enqueueRead(rt, m_summaryHost.data(), kSummaryInts);
@@ -184,6 +177,33 @@ void DeviceLayout::split(const DeviceBuffer<btoclConstraint>& constraints, int n
     // The one read-back: the launches over groups need the number of groups.
     m_summary.read(rt, m_summaryHost.data(), kSummaryInts);
     takeSummary(m_summaryHost.data());
+}
+
+void DeviceLayout::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
+    constexpr size_t grid = KernelWarmUp::kGrid;
+    const cl::Buffer z = warm.zeros(4096);
+    const size_t binBytes = sizeof(int) * BTOCL_SPLIT_NUM_KEYS;
+    const cl::Buffer binStart = warm.zeros(binBytes), binEnd = warm.zeros(binBytes), flags = warm.zeros(binBytes);
+    const int none = 0;
+    const size_t parts = boundsParts();
+    // A grid from no bounds (one cell), which the group writer reads.
+    const cl::Buffer grid1 = warm.zeros(sizeof(btoclSplitGrid));
+    setArgs(m_splitBoundsAndGrid, z, none, none, 1.0f, grid1, cl::Local(parts * sizeof(cl_float4)),
+            cl::Local(parts * sizeof(cl_float4)));
+    warm.launch(m_splitBoundsAndGrid, parts, parts);
+    setArgs(m_splitKeys, z, none, z, none, grid1, z, z);
+    warm.launch(m_splitKeys, grid, kLanes);
+    setArgs(m_splitMarkBins, z, none, binStart, binEnd, flags);
+    warm.launch(m_splitMarkBins, grid, kLanes);
+    setArgs(m_splitWriteGroups, binStart, binEnd, flags, grid1, z, lanes.localBatches ? 0 : 1, z, z);  // no bin holds any
+    warm.launch(m_splitWriteGroups, BTOCL_SPLIT_NUM_KEYS, 0);
+    if (!lanes.localBatches) return;
+    // Empty groups: the batch kernel finds nothing to batch.
+    const size_t wg = size_t(lanes.lanes);
+    const cl::Buffer groups = warm.zeros(sizeof(btoclGroup) * (grid / wg));
+    BatchProgram& batch = batchProgram(lanes.lanes);
+    setArgs(batch.kernel, z, z, groups, none, z, z);
+    warm.launch(batch.kernel, grid, wg);
 }
 
 const DeviceLayoutStats& DeviceLayout::stats() const {

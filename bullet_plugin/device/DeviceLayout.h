@@ -6,6 +6,7 @@
 #include "BatchLayout.h"
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
+#include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "SplitPlan.h"
 #include "StepPlan.h"
@@ -62,6 +63,11 @@ public:
     // Constraints per streamed chunk of the batch kernel for a work-group size (fits local memory).
     int windowSize(int workGroupSize) const;
 
+    // Launches every kernel of the split, and with `lanes`' local batches the batch kernel for
+    // its work-group size, in their launch shapes, on no work (KernelWarmUp.h). Touches none of
+    // this object's buffers.
+    void warmUp(KernelWarmUp& warm, const GroupLanes& lanes);
+
 private:
     struct BatchProgram {
         cl::Program program;
@@ -69,20 +75,18 @@ private:
         int window = 0;
     };
     BatchProgram& batchProgram(int workGroupSize);
+    size_t boundsParts() const;
     void layOutOneGroup(int n);
     void takeSummary(const int* summary) const;
     void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params);
 
     const OclRuntime& m_rt;
-    cl::Program m_splitProgram;
     DevicePrimitives& m_prims;  // the stable sort by cell key and the scan over key bins
     bool m_localBatches = false, m_setStartsOnDevice = false;  // the plan of the last build
-    cl::Kernel m_splitBounds, m_splitGridSetup, m_splitKeys, m_splitClearBins, m_splitMarkBins, m_splitBinFlags, m_splitWriteGroups,
-        m_splitWriteSummary;
+    cl::Kernel m_splitBoundsAndGrid, m_splitKeys, m_splitMarkBins, m_splitWriteGroups;
     std::map<int, BatchProgram> m_batchPrograms;
 
-    DeviceBuffer<cl_float4> m_partMin, m_partMax;
     DeviceBuffer<btoclSplitGrid> m_grid;
     DeviceBuffer<cl_uchar> m_overflowBody;
     DeviceBuffer<cl_uint> m_keys;

@@ -98,12 +98,13 @@ DevicePrimitives::BackendTiming DevicePrimitives::timeBackends(const OclRuntime&
     return t;
 }
 
-DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend) : m_rt(rt), m_backend(backend) {
+DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend, bool warmUpNow)
+    : m_rt(rt), m_backend(backend) {
     if (m_backend == Backend::Auto) m_backend = rt.isCpu() ? Backend::Chunked : fasterBackend(rt);
     m_maxChunks = std::min<size_t>(4 * rt.computeUnits(), 256);  // a few chunks per core balance the load
 
     if (m_backend == Backend::Chunked) {
-        const cl::Program program = rt.buildProgramFile("primitives.cl");
+        const cl::Program& program = rt.stepProgram();  // primitives.cl among the step's kernels
         m_count = rt.makeKernel(program, "countChunkBuckets");
         m_scatter = rt.makeKernel(program, "scatterChunkBuckets");
         m_sumChunks = rt.makeKernel(program, "sumChunks");
@@ -113,7 +114,11 @@ DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend) : m_rt
     } else {
         m_boost = std::make_unique<Boost>(rt);
     }
+    if (warmUpNow) warmUp();
+}
 
+void DevicePrimitives::warmUp() {
+    const OclRuntime& rt = m_rt;
     // Warm-up: PoCL compiles a kernel for its launch shape at the first launch, and
     // Boost.Compute compiles its programs at first use (cached per context). Run every path
     // once now so that no solver step pays for it. 70000 > Boost's serial-scan threshold,

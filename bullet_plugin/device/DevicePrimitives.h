@@ -38,9 +38,9 @@ public:
     static BackendTiming timeBackends(const OclRuntime& rt);
     static Backend fasterBackend(const OclRuntime& rt) { return timeBackends(rt).faster; }
 
-    // Builds (or, for Boost.Compute, compiles and warms up) every kernel here, so the first
-    // step pays nothing more. `rt` must outlive this object. Throws btOpenCLSolverError.
-    explicit DevicePrimitives(const OclRuntime& rt, Backend backend = Backend::Auto);
+    // Builds every kernel here and, unless `warmUpNow` is false, warms them up (warmUp()).
+    // `rt` must outlive this object. Throws btOpenCLSolverError.
+    explicit DevicePrimitives(const OclRuntime& rt, Backend backend = Backend::Auto, bool warmUpNow = true);
     ~DevicePrimitives();
     DevicePrimitives(const DevicePrimitives&) = delete;
     DevicePrimitives& operator=(const DevicePrimitives&) = delete;
@@ -71,6 +71,10 @@ public:
     // out[i] = in[0] + ... + in[i-1] (int, wrapping), out[0] = 0, on the device. in and out
     // may be the same buffer (in-place scan).
     void exclusiveScan(const cl::Buffer& in, const cl::Buffer& out, size_t n);
+
+    // Runs every path of the sort and scan once (Boost.Compute compiles its programs at their
+    // first use), so that no step pays for their compiles. Throws btOpenCLSolverError.
+    void warmUp();
 
     Backend backend() const { return m_backend; }
     const char* backendName() const;

@@ -9,24 +9,21 @@ constexpr size_t kLanes = 64;  // local size of the launches over constraints, r
 
 DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitives)
     : m_rt(runtime), m_primitives(primitives) {
-    // A CPU's compiler is asked for software prefetch of scattered records (btocl_shared.h:
+    // On a CPU the program asks for software prefetch of scattered records (btocl_shared.h:
     // BTOCL_PREFETCHES): bodies in the solve and setup, constraints and impulses in the arrangement.
-    const std::string prefetch = m_rt.isCpu() ? "-DBTOCL_CPU_PREFETCH" : "";
-    m_solveProgram = m_rt.buildProgramFile("solve.cl", prefetch);
-    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(m_solveProgram, "applyWarmStart");
-    m_passKernels[BTOCL_PASS_PUSH] = m_rt.makeKernel(m_solveProgram, "solvePushRows");
-    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(m_solveProgram, "solveNormalRows");
-    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(m_solveProgram, "solveFrictionRows");
-    m_endIteration = m_rt.makeKernel(m_solveProgram, "endIteration");
-    m_wholeStep = m_rt.makeKernel(m_solveProgram, "solveWholeStep");
-    m_claimed = m_rt.makeKernel(m_solveProgram, "solveStepClaimed");
-    m_setupProgram = m_rt.buildProgramFile("setup.cl", prefetch);
-    m_setupRows = m_rt.makeKernel(m_setupProgram, "setupContactRows");
-    m_arrangeProgram = m_rt.buildProgramFile("arrange.cl", prefetch);
-    m_countRows = m_rt.makeKernel(m_arrangeProgram, "countRowsInSolveOrder");
-    m_placeConstraints = m_rt.makeKernel(m_arrangeProgram, "placeConstraints");
-    m_placeRows = m_rt.makeKernel(m_arrangeProgram, "placeRows");
-    m_impulsesToGatherOrder = m_rt.makeKernel(m_arrangeProgram, "impulsesToGatherOrder");
+    const cl::Program& program = m_rt.stepProgram();
+    m_passKernels[BTOCL_PASS_WARMSTART] = m_rt.makeKernel(program, "applyWarmStart");
+    m_passKernels[BTOCL_PASS_PUSH] = m_rt.makeKernel(program, "solvePushRows");
+    m_passKernels[BTOCL_PASS_NORMAL] = m_rt.makeKernel(program, "solveNormalRows");
+    m_passKernels[BTOCL_PASS_FRICTION] = m_rt.makeKernel(program, "solveFrictionRows");
+    m_endIteration = m_rt.makeKernel(program, "endIteration");
+    m_wholeStep = m_rt.makeKernel(program, "solveWholeStep");
+    m_claimed = m_rt.makeKernel(program, "solveStepClaimed");
+    m_setupRows = m_rt.makeKernel(program, "setupContactRows");
+    m_countRows = m_rt.makeKernel(program, "countRowsInSolveOrder");
+    m_placeConstraints = m_rt.makeKernel(program, "placeConstraints");
+    m_placeRows = m_rt.makeKernel(program, "placeRows");
+    m_impulsesToGatherOrder = m_rt.makeKernel(program, "impulsesToGatherOrder");
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
@@ -122,15 +119,19 @@ void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView&
     m_rt.launch(m_wholeStep, lanes, lanes, "launching solveWholeStep");
 }
 
-// One single-lane work-group per compute unit: the device runs them side by side (more would
-// wait for a free unit and buy nothing; fewer would leave units idle). The progress block is
-// cleared on the device, in order before the launch.
+// Single-lane work-groups, for a split step one per compute unit: the device runs them side by
+// side (more would wait for a free unit and buy nothing; fewer would leave units idle). The
+// progress block is cleared on the device, in order before the launch; a single work-group (a
+// whole step) clears it itself, which saves the fill command.
 void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
-                                 const SolveSettings& s) {
+                                 const SolveSettings& s, int workGroups) {
     const btoclPassSchedule& passes = plan.passes();
-    const int workGroups = int(m_rt.computeUnits());
-    m_progress.fill(m_rt, 0,
-                    size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations)));
+    const size_t progressInts =
+        size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations));
+    if (workGroups > 1)
+        m_progress.fill(m_rt, 0, progressInts);
+    else
+        m_progress.reserve(m_rt, progressInts);
     bindSolveBuffers(m_claimed, layout);
     setArgsFrom(m_claimed, kSolveBufferArgs, *layout.setGroupStartOnDevice, m_progress.buffer(),
                 int(p.constraints.size()), s.flags, s.residualThreshold, passes);
@@ -140,13 +141,62 @@ void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, con
 void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                            const SolveSettings& s) {
     if (p.constraints.empty()) return;
-    switch (plan.mode()) {
-        case StepMode::WholeStep: return launchWholeStep(plan, layout, s);
-        case StepMode::PerSet: return launchPerSet(plan, layout, s);
-        case StepMode::Claimed: return launchClaimed(p, plan, layout, s);
-        case StepMode::Host: break;
+    if (plan.onHost())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a step planned for the host was sent to the device");
+    if (plan.claimedLaunch()) return launchClaimed(p, plan, layout, s, plan.oneGroup() ? 1 : int(m_rt.computeUnits()));
+    if (plan.mode() == StepMode::PerSet) return launchPerSet(plan, layout, s);
+    launchWholeStep(plan, layout, s);
+}
+
+void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
+    constexpr size_t grid = KernelWarmUp::kGrid;
+    const cl::Buffer z = warm.zeros(4096);
+    const int none = 0;
+    setArgs(m_countRows, z, z, z, z, none);
+    warm.launch(m_countRows, grid, kLanes);
+    setArgs(m_placeConstraints, z, z, z, z, none, z, z, none);
+    warm.launch(m_placeConstraints, grid, kLanes);
+    setArgs(m_placeRows, z, none, z, z, z, z, z, none, btoclRowRegionsOf(0, 0, 0, 0));
+    warm.launch(m_placeRows, grid, kLanes);
+    btoclSetupParams noPoints{};
+    noPoints.numPoints = 0;
+    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints);
+    warm.launch(m_setupRows, grid, kLanes);
+    setArgs(m_impulsesToGatherOrder, z, z, z, none);
+    warm.launch(m_impulsesToGatherOrder, grid, kLanes);
+
+    // The solve: no groups, no passes (the set starts in `z` are all 0).
+    const btoclPassSchedule noPasses{};
+    const float noThreshold = 0;
+    auto bindScratch = [&](cl::Kernel& k, const cl::Buffer& control) {
+        setArgs(k, z, z, z, z, z, z, z, z, z, control);
+    };
+    // Whole steps of one lane, and the serial path's split steps, are claimed (StepPlan::claimedLaunch).
+    const size_t wg = size_t(lanes.lanes);
+    if (wg == 1 || !lanes.localBatches) {
+        bindScratch(m_claimed, z);
+        setArgsFrom(m_claimed, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses);
+        warm.launch(m_claimed, m_rt.computeUnits(), 1);
     }
-    throw btOpenCLSolverError("btOpenCLConstraintSolver: a step planned for the host was sent to the device");
+    if (!lanes.localBatches) return;
+    if (wg > 1) {
+        bindScratch(m_wholeStep, z);
+        setArgsFrom(m_wholeStep, kSolveBufferArgs, none, none, noThreshold, noPasses);
+        warm.launch(m_wholeStep, wg, wg);
+    }
+    // A pass kernel returns at once when its kind of iterations has stopped.
+    std::array<int, BTOCL_CONTROL_SIZE> stopped{};
+    stopped[BTOCL_CONTROL_STOPPED] = stopped[BTOCL_CONTROL_PUSH_STOPPED] = 1;
+    const cl::Buffer control = warm.zeros(sizeof stopped);
+    checkCl(m_rt.queue().enqueueWriteBuffer(control, CL_TRUE, 0, sizeof stopped, stopped.data()),
+            "writing a warm-up buffer");
+    for (cl::Kernel& k : m_passKernels) {
+        bindScratch(k, control);
+        setArgsFrom(k, kSolveBufferArgs, none, none, none, none);
+        warm.launch(k, grid, wg);
+    }
+    setArgs(m_endIteration, control, noThreshold, none);
+    warm.launch(m_endIteration, 1, 1);
 }
 
 int DeviceSolver::download(StepProblem& p, const StepPlan& plan, const SolveSettings& s) {

@@ -6,6 +6,7 @@
 
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
+#include "KernelWarmUp.h"
 #include "SolveSettings.h"
 #include "StepPlan.h"
 #include "StepProblem.h"
@@ -42,6 +43,10 @@ public:
     int download(StepProblem& p, const StepPlan& plan, const SolveSettings& settings);
     const DeviceBuffer<btoclConstraint>& constraints() const { return m_constraints; }
 
+    // Launches every kernel that steps on `lanes` use, in their launch shapes, on no work
+    // (KernelWarmUp.h). Touches none of this object's buffers.
+    void warmUp(KernelWarmUp& warm, const GroupLanes& lanes);
+
 private:
     friend class DeviceSolveProbe;  // the tests' read-back of the rows (reference/DeviceSolveProbe.h)
 
@@ -52,11 +57,10 @@ private:
                     const SolveSettings& settings);
     void launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
-                       const SolveSettings& settings);
+                       const SolveSettings& settings, int workGroups);
 
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
-    cl::Program m_solveProgram, m_setupProgram, m_arrangeProgram;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
     cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_impulsesToGatherOrder;
     DeviceBuffer<btoclBody> m_bodies;

@@ -51,6 +51,12 @@ struct btOpenCLSolverConfig {
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
     // input (non-finite values, negative counts) still throws.
     bool fallbackToBullet = false;
+    // Every kernel the solver can launch is compiled when the solver is made, so that no step
+    // waits for a compile. An OpenCL device compiles a kernel's code at its first launch: on a
+    // CPU through PoCL, with an empty kernel cache (a new machine or PoCL version), seconds in all
+    // (README, "Start-up cost"). Off: the solver is made without, and warmUp() does it at the
+    // moment the caller chooses; until then each step compiles what it launches first.
+    bool warmUpAtConstruction = true;
 };
 
 // What the last step did. Times in milliseconds: the host's stages by the host's clock, the
@@ -105,6 +111,11 @@ public:
     void allSolved(const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
     void reset() override;
     btConstraintSolverType getSolverType() const override;
+
+    // Compiles now every kernel this solver can launch (what the constructor does unless
+    // warmUpAtConstruction is off); a call after the first returns at once. Changes no result of
+    // any step. Throws btOpenCLSolverError.
+    void warmUp();
 
     const btOpenCLSolverStats& getLastStats() const;
     std::string getDeviceName() const;

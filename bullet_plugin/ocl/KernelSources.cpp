@@ -54,4 +54,11 @@ std::string inlineKernelIncludes(const std::string& source) {
 
 std::string loadKernelSource(const std::string& name) { return inlineKernelIncludes(readKernelFile(name)); }
 
+std::string loadKernelSources(const std::vector<std::string>& names) {
+    std::set<std::string> seen;
+    std::string out;
+    for (const std::string& name : names) appendWithIncludes(readKernelFile(name), seen, out);
+    return out;
+}
+
 }  // namespace btocl

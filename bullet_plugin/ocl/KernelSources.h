@@ -22,4 +22,7 @@ std::string inlineKernelIncludes(const std::string& source);
 // Throws btOpenCLSolverError when a file is missing.
 std::string loadKernelSource(const std::string& name);
 
+// The texts of kernels/<names> one after another, as one program: each header included once.
+std::string loadKernelSources(const std::vector<std::string>& names);
+
 }  // namespace btocl

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cstdlib>
 #include <sstream>
 
@@ -182,8 +183,23 @@ cl::Program OclRuntime::buildProgramFile(const std::string& file, const std::str
     return buildProgramSource(loadKernelSource(file), file, options);
 }
 
+cl::Program OclRuntime::buildProgramFiles(const std::vector<std::string>& files, const std::string& options) const {
+    std::string name;
+    for (const std::string& f : files) name += (name.empty() ? "" : " + ") + f;
+    return buildProgramSource(loadKernelSources(files), name, options);
+}
+
+const cl::Program& OclRuntime::stepProgram() const {
+    if (!m_stepProgram())
+        m_stepProgram = buildProgramFiles({"primitives.cl", "split.cl", "arrange.cl", "setup.cl", "solve.cl"},
+                                          std::string("-cl-fp32-correctly-rounded-divide-sqrt") +
+                                              (m_isCpu ? " -DBTOCL_CPU_PREFETCH" : ""));
+    return m_stepProgram;
+}
+
 cl::Program OclRuntime::buildProgramSource(const std::string& source, const std::string& name,
                                            const std::string& options) const {
+    const auto t0 = std::chrono::steady_clock::now();
     cl_int err = CL_SUCCESS;
     cl::Program program(m_context, inlineKernelIncludes(source), false, &err);
     checkCl(err, ("creating program " + name).c_str());
@@ -195,6 +211,7 @@ cl::Program OclRuntime::buildProgramSource(const std::string& source, const std:
         throw btOpenCLSolverError("btOpenCLConstraintSolver: building kernel program '" + name + "' failed (" +
                                   clErrorName(err) + ") on " + m_deviceName + ". Compiler log:\n" + log);
     }
+    m_programBuilds.push_back({name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()});
     return program;
 }
 

@@ -11,7 +11,8 @@ namespace btocl {
 
 // How the iterations of a step are launched.
 enum class StepMode {
-    WholeStep,  // no global split: every constraint in one group, every pass in one launch of one work-group
+    WholeStep,  // no global split: every constraint in one group, every pass in one launch of one
+                // work-group (solveWholeStep; with one lane, solveStepClaimed's walk is the same)
     PerSet,     // the global split; one launch per set and pass, the groups of a set side by side
     Claimed,    // the global split; one launch of a single-lane work-group per compute unit, which
                 // claim each set's groups in turn (solve.cl: solveStepClaimed)
@@ -55,8 +56,14 @@ public:
     // Every constraint in one group (set 0), no global split.
     bool oneGroup() const { return m_mode == StepMode::WholeStep || m_mode == StepMode::Host; }
     bool onHost() const { return m_mode == StepMode::Host; }
+    // The iterations run in solveStepClaimed: the claimed mode, and a whole step of one lane, whose
+    // one work-group walks the one group as solveWholeStep would (so the serial path, which has
+    // one lane a group, compiles one solve kernel, not two).
+    bool claimedLaunch() const {
+        return m_mode == StepMode::Claimed || (m_mode == StepMode::WholeStep && m_lanes.lanes == 1);
+    }
     // The solve reads the split's set starts on the device, so the host does not wait for them.
-    bool setStartsOnDevice() const { return m_mode == StepMode::Claimed; }
+    bool setStartsOnDevice() const { return claimedLaunch(); }
     const btoclPassSchedule& passes() const { return m_passes; }
 
 private:

@@ -1,0 +1,168 @@
+// The warm-up (btOpenCLSolverConfig::warmUpAtConstruction, btOpenCLConstraintSolver::warmUp):
+// every kernel the solver can launch compiled before a step needs it, and no step changed by it.
+#include "JointScenes.h"
+#include "KernelSources.h"
+#include "Scenes.h"
+#include "TestDevice.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace testworld;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Every body's transform and velocities, as bytes.
+std::vector<unsigned char> bodyBytes(const World& w) {
+    std::vector<unsigned char> out;
+    auto append = [&](const void* p, size_t n) {
+        const auto* c = static_cast<const unsigned char*>(p);
+        out.insert(out.end(), c, c + n);
+    };
+    for (const btRigidBody* b : w.bodies()) {
+        append(&b->getWorldTransform(), sizeof(btTransform));
+        append(&b->getLinearVelocity(), sizeof(btVector3));
+        append(&b->getAngularVelocity(), sizeof(btVector3));
+    }
+    return out;
+}
+
+// A pile with a chain beside it: contacts, joints (rows set up on the host) and split impulse.
+void pileAndChain(World& w) {
+    groundAndPile(w, 300);
+    btscenes::addChain(w, btVector3(12, 8, 0), 8, 1);
+}
+
+}  // namespace
+
+TEST_CASE("a warm-up changes no result: at construction, later, or never", "[warm-up]") {
+    const int wholeStepMaxRows = GENERATE(-1, 0);  // whole steps, then every step split
+    const bool push = GENERATE(false, true);
+    CAPTURE(wholeStepMaxRows, push);
+    auto makeConfig = [&](bool warmUpAtConstruction) {
+        btOpenCLSolverConfig c = validatingConfig();
+        c.hostStepMaxRows = 0;  // every step on the device, whose kernels the warm-up compiles
+        c.wholeStepMaxRows = wholeStepMaxRows;
+        c.warmUpAtConstruction = warmUpAtConstruction;
+        return c;
+    };
+    World atConstruction(SolverKind::OpenCL, makeConfig(true));
+    World never(SolverKind::OpenCL, makeConfig(false));
+    World later(SolverKind::OpenCL, makeConfig(false));
+    for (World* w : {&atConstruction, &never, &later}) {
+        pileAndChain(*w);
+        w->info().m_splitImpulse = push ? 1 : 0;
+    }
+    for (int s = 0; s < 40; ++s) {
+        if (s == 20) {
+            later.openCL()->warmUp();
+            later.openCL()->warmUp();  // a second call does nothing
+        }
+        for (World* w : {&atConstruction, &never, &later}) w->step();
+        const btOpenCLSolverStats& a = atConstruction.openCL()->getLastStats();
+        for (World* w : {&never, &later}) {
+            const btOpenCLSolverStats& b = w->openCL()->getLastStats();
+            INFO("step " << s);
+            REQUIRE(a.numConstraintRows == b.numConstraintRows);
+            REQUIRE(a.numGroups == b.numGroups);
+            REQUIRE(a.numIterationsRun == b.numIterationsRun);
+            REQUIRE(a.solvedWholeStep == b.solvedWholeStep);
+            REQUIRE(bodyBytes(atConstruction) == bodyBytes(*w));
+        }
+    }
+    const btOpenCLSolverStats& last = atConstruction.openCL()->getLastStats();
+    CHECK(last.numJointRows > 0);
+    CHECK(last.solvedWholeStep == (wholeStepMaxRows != 0));
+}
+
+namespace {
+
+// The kernels' code PoCL has generated into its cache, as "<kernel>/<variant>" (the variant
+// names the local size and grid it was made for: 64-1-1-goffs0-smallgrid), ours alone (the sort
+// library's kernels on the wide path are Boost.Compute's, which it launches in shapes of its own).
+std::multiset<std::string> ourCompiledKernels(const fs::path& cache) {
+    std::string sources;
+    for (const btocl::EmbeddedKernelFile& f : btocl::embeddedKernelFiles()) sources += f.text;
+    std::multiset<std::string> out;
+    if (!fs::exists(cache)) return out;
+    for (const auto& prefix : fs::directory_iterator(cache)) {
+        if (!prefix.is_directory()) continue;
+        for (const auto& program : fs::directory_iterator(prefix.path())) {
+            if (!program.is_directory()) continue;
+            for (const auto& kernel : fs::directory_iterator(program.path())) {
+                const std::string name = kernel.path().filename().string();
+                if (!kernel.is_directory() || sources.find(" " + name + "(") == std::string::npos) continue;
+                for (const auto& variant : fs::directory_iterator(kernel.path()))
+                    if (variant.is_directory()) out.insert(name + "/" + variant.path().filename().string());
+            }
+        }
+    }
+    return out;
+}
+
+std::set<std::string> kernelNames(const std::multiset<std::string>& compiled) {
+    std::set<std::string> names;
+    for (const std::string& k : compiled) names.insert(k.substr(0, k.find('/')));
+    return names;
+}
+
+void stepScene(const btOpenCLSolverConfig& config, int steps, const std::function<void(World&)>& build,
+               const std::function<void(const btOpenCLSolverStats&)>& check = {}) {
+    World w(SolverKind::OpenCL, config);
+    build(w);
+    for (int s = 0; s < steps; ++s) w.step();
+    if (check) check(w.openCL()->getLastStats());
+}
+
+}  // namespace
+
+// Hidden ([.]): run in a process of its own by ctest (kernel_warm_up_cache) with POCL_CACHE_DIR
+// set to a directory of the build that it empties first, before PoCL starts in the process.
+TEST_CASE("after the warm-up, no step makes PoCL generate a kernel", "[.][warm-up-cache]") {
+    const char* dirText = std::getenv("POCL_CACHE_DIR");
+    REQUIRE(dirText != nullptr);
+    const fs::path cache(dirText);
+    // Never empty a cache this test did not make its own.
+    REQUIRE(cache.filename().string().rfind("btocl-test-pocl-cache", 0) == 0);
+    fs::remove_all(cache);
+    fs::create_directories(cache);
+
+    btOpenCLSolverConfig deferred;
+    deferred.warmUpAtConstruction = false;
+    btOpenCLConstraintSolver solver(deferred);
+    CHECK(ourCompiledKernels(cache).empty());  // made without compiling any kernel
+    solver.warmUp();
+    const std::multiset<std::string> warm = ourCompiledKernels(cache);
+    INFO("after the warm-up: " << Catch::Detail::stringify(warm));
+    REQUIRE(warm.size() > 5);
+    CHECK(kernelNames(warm).size() == warm.size());  // one variant a kernel
+
+    // Steps of every kind the path runs: whole and split, joints, push, launches past 65,535
+    // work-items (a dense block: some 70K contact points). Each solver warms up as it is made
+    // (the default), from what the process has already loaded.
+    btOpenCLSolverConfig config = validatingConfig();
+    config.hostStepMaxRows = 0;  // small steps too on the device: its kernels are what this counts
+    config.wholeStepMaxRows = -1;
+    stepScene(config, 30, [](World& w) { groundAndPile(w, 200); },
+              [](const btOpenCLSolverStats& s) { CHECK(s.solvedWholeStep); });
+    config.wholeStepMaxRows = 0;
+    stepScene(config, 30, [](World& w) { pileAndChain(w); w.info().m_splitImpulse = 1; },
+              [](const btOpenCLSolverStats& s) {
+                  CHECK_FALSE(s.solvedWholeStep);
+                  CHECK(s.numJointRows > 0);
+              });
+    config.wholeStepMaxRows = -1;
+    config.validate = false;
+    stepScene(config, 2, [](World& w) { btscenes::groundAndBondedBlock(w, 3200); },
+              [](const btOpenCLSolverStats& s) { CHECK(s.numContactPoints > 65536); });
+    CHECK(ourCompiledKernels(cache) == warm);
+}
