@@ -9,6 +9,7 @@
 // default wait, 3.4-4.0 and 9.3-10.0 with passive threads.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -19,10 +20,11 @@ namespace btocl {
 // Below this many items a loop runs on the calling thread (waking the pool costs some tens of
 // microseconds, and the items of a small loop take less). From about 16K items the loops' gain
 // outweighs that (block 12K: gather 30 -> 20 ms, write-back 7.7 -> 3.9 ms).
-// Tests lower it to run small scenes in parallel, and raise it to run large ones serially.
+// Tests lower it to run small scenes in parallel, and raise it to run large ones serially
+// (atomic: solvers in other threads read it meanwhile).
 constexpr size_t kMinParallelItems = 16384;
-inline size_t& minParallelItems() {
-    static size_t items = kMinParallelItems;
+inline std::atomic<size_t>& minParallelItems() {
+    static std::atomic<size_t> items{kMinParallelItems};
     return items;
 }
 

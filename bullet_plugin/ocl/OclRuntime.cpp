@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <mutex>
 #include <sstream>
 
 namespace btocl {
@@ -67,9 +68,13 @@ void checkCl(cl_int err, const char* what) {
 // 2-core machine on one core, which ran the step at one core's speed (block 1,500: 10.5 ms
 // against 5.5 in about half the steps of btocl_bench); pinned (POCL_AFFINITY=1), every step ran
 // at two. PoCL reads the variable when it starts its workers, at the process's first device
-// query; a value the user set is kept (POCL_AFFINITY=0 opts out).
+// query; a value the user set is kept (POCL_AFFINITY=0 opts out). Once per process: setenv may
+// not run beside another thread's getenv, and solvers made in threads at once would race here.
 static void pinPoclWorkersUnlessAsked() {
-    if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
+    static std::once_flag once;
+    std::call_once(once, [] {
+        if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
+    });
 }
 
 std::vector<DeviceEntry> listDevices() {
