@@ -26,10 +26,10 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
     if (asked != btOpenCLSolvePath::Auto) return asked;
     if (const char* env = std::getenv("BT_OPENCL_SOLVE_PATH"); env && *env) {
-        const std::string value = env;
-        if (value == "serial") return btOpenCLSolvePath::Serial;
-        if (value == "wide") return btOpenCLSolvePath::Wide;
-        if (value != "auto")
+        const std::string value = env, key = lowerCase(value);
+        if (key == "serial") return btOpenCLSolvePath::Serial;
+        if (key == "wide") return btOpenCLSolvePath::Wide;
+        if (key != "auto")
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SOLVE_PATH is '" + value +
                                       "'; it takes auto, serial or wide");
     }

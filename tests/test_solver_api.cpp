@@ -2,6 +2,7 @@
 // and bad configurations, a world that steps on after an
 // error, solveGroup called by hand, plausible statistics, a device name. These always run our
 // solver.
+#include "ScopedEnv.h"
 #include "TestWorld.h"
 #include "btOpenCLConstraintSolver.h"
 
@@ -12,6 +13,7 @@
 #include <string>
 
 using namespace testworld;
+using btocl::test::ScopedEnv;
 
 namespace {
 
@@ -205,4 +207,21 @@ TEST_CASE("by default a step is solved whole up to a size that depends on the so
 TEST_CASE("getDeviceName names the device", "[api]") {
     btOpenCLConstraintSolver solver(validatingConfig());
     REQUIRE_FALSE(solver.getDeviceName().empty());
+}
+
+TEST_CASE("the environment's solve path and transfers are read in any case, as device names are", "[api]") {
+    for (const char* wide : {"WIDE", "Wide"}) {
+        const ScopedEnv path("BT_OPENCL_SOLVE_PATH", wide);
+        CHECK(btOpenCLConstraintSolver().getSolvePath() == btOpenCLSolvePath::Wide);
+    }
+    {
+        const ScopedEnv path("BT_OPENCL_SOLVE_PATH", "Serial");
+        CHECK(btOpenCLConstraintSolver().getSolvePath() == btOpenCLSolvePath::Serial);
+    }
+    {
+        const ScopedEnv transfers("BT_OPENCL_TRANSFERS", "COPY");
+        CHECK_NOTHROW(btOpenCLConstraintSolver());
+    }
+    const ScopedEnv path("BT_OPENCL_SOLVE_PATH", "Widest");
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(), Catch::Contains("BT_OPENCL_SOLVE_PATH is 'Widest'"));
 }

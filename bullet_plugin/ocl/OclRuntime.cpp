@@ -11,12 +11,12 @@
 #include <sstream>
 
 namespace btocl {
-namespace {
-
-std::string lower(std::string s) {
+std::string lowerCase(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return s;
 }
+
+namespace {
 
 std::string trim(const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r\n");
@@ -124,7 +124,7 @@ DeviceEntry selectDevice(const std::string& specIn) {
             if (d.type & t) return &d;
         return nullptr;
     };
-    const std::string key = lower(spec);
+    const std::string key = lowerCase(spec);
     const DeviceEntry* found = nullptr;
     if (key.empty()) {
         found = firstOfType(CL_DEVICE_TYPE_GPU);
@@ -139,7 +139,7 @@ DeviceEntry selectDevice(const std::string& specIn) {
         if (index < devices.size()) found = &devices[index];
     } else {
         for (const DeviceEntry& d : devices)
-            if (lower(d.platformName + " / " + d.deviceName).find(key) != std::string::npos) {
+            if (lowerCase(d.platformName + " / " + d.deviceName).find(key) != std::string::npos) {
                 found = &d;
                 break;
             }
@@ -174,9 +174,9 @@ OclRuntime::OclRuntime(const std::string& deviceSpec) {
     m_hostUnifiedMemory = m_device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
     if (const char* env = std::getenv("BT_OPENCL_TRANSFERS"); env && *env) {
         const std::string value = env;
-        if (value == "copy")
+        if (lowerCase(value) == "copy")
             transferByCopy();
-        else if (value != "auto")
+        else if (lowerCase(value) != "auto")
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_TRANSFERS is '" + value +
                                       "'; it takes auto or copy");
     }
