@@ -71,4 +71,19 @@ inline btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPo
     return prm;
 }
 
+// Whether two btContactSolverInfo agree in every setting a step reads: solveSettingsOf's and
+// setupParamsOf's, the joints' (m_erp, m_damping, m_globalCfm, m_numIterations, m_timeStep), the
+// gather's gyroscopic limit and the write-back's turn. A setting read anywhere else belongs here
+// too: solveGroup calls of one step are gathered into one solve only while this holds.
+inline bool sameStepSettings(const btContactSolverInfo& a, const btContactSolverInfo& b) {
+    return a.m_timeStep == b.m_timeStep && a.m_numIterations == b.m_numIterations && a.m_solverMode == b.m_solverMode &&
+           a.m_leastSquaresResidualThreshold == b.m_leastSquaresResidualThreshold && a.m_sor == b.m_sor &&
+           a.m_globalCfm == b.m_globalCfm && a.m_erp2 == b.m_erp2 && a.m_erp == b.m_erp && a.m_damping == b.m_damping &&
+           a.m_linearSlop == b.m_linearSlop && a.m_restitutionVelocityThreshold == b.m_restitutionVelocityThreshold &&
+           a.m_warmstartingFactor == b.m_warmstartingFactor && a.m_frictionERP == b.m_frictionERP &&
+           a.m_splitImpulse == b.m_splitImpulse &&
+           a.m_splitImpulsePenetrationThreshold == b.m_splitImpulsePenetrationThreshold &&
+           a.m_splitImpulseTurnErp == b.m_splitImpulseTurnErp && a.m_maxGyroscopicForce == b.m_maxGyroscopicForce;
+}
+
 }  // namespace btocl

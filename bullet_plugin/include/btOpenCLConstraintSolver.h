@@ -88,6 +88,11 @@ public:
     btOpenCLConstraintSolver(const btOpenCLConstraintSolver&) = delete;
     btOpenCLConstraintSolver& operator=(const btOpenCLConstraintSolver&) = delete;
 
+    // A step's solveGroup calls, between prepareSolve and allSolved, are gathered and solved
+    // together in allSolved. Bullet's own solver solves each call at once; so that no group is
+    // lost or solved under another call's settings, the groups gathered so far are solved first
+    // at a second prepareSolve and at a solveGroup whose btContactSolverInfo differs from theirs
+    // in a setting the step reads. A solveGroup outside the bracket is solved at once.
     void prepareSolve(int numBodies, int numManifolds) override;
     btScalar solveGroup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
                         int numManifolds, btTypedConstraint** constraints, int numConstraints,
