@@ -37,7 +37,7 @@ StepPipeline::StepPipeline(const btOpenCLSolverConfig& config)
 void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info,
                        btOpenCLSolverStats& s) {
     const auto t0 = std::chrono::steady_clock::now();
-    const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints);
+    const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints, m_orderSeed++);
     const StepPlan step = planStep(m_plan, p, settings);
     checkStepFitsDevice(countsOf(p), m_limits);
 

@@ -43,6 +43,9 @@ public:
     const OclRuntime& runtime() const { return m_runtime; }
     const SolverPlan& plan() const { return m_plan; }
     const char* sortAndScanName() const { return m_primitives.backendName(); }
+    // The shuffled orders of SOLVER_RANDMIZE_ORDER start again from the first step's, as
+    // btSequentialImpulseConstraintSolver::reset() restarts its random sequence.
+    void restartOrders() { m_orderSeed = 0; }
 
 private:
     void fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const;
@@ -56,6 +59,7 @@ private:
     const DeviceLimits m_limits;
     DeviceSolver m_solve;
     DeviceLayout m_layout;
+    unsigned m_orderSeed = 0;  // steps run since the solver was made or reset
 };
 
 // The global split's settings of a config.

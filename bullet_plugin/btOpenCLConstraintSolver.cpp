@@ -167,7 +167,7 @@ void btOpenCLConstraintSolver::allSolved(const btContactSolverInfo&, btIDebugDra
     m_impl->run();
 }
 
-void btOpenCLConstraintSolver::reset() {}
+void btOpenCLConstraintSolver::reset() { m_impl->pipeline.restartOrders(); }
 btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return BT_SEQUENTIAL_IMPULSE_SOLVER; }
 const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { return m_impl->stats; }
 std::string btOpenCLConstraintSolver::getDeviceName() const { return m_impl->pipeline.runtime().deviceName(); }

@@ -35,6 +35,79 @@ typedef struct {
     BTOCL_GLOBAL btoclBodyDelta* deltas;
 } btoclSolveBuffers;
 
+// The randomized order (SOLVER_RANDMIZE_ORDER: BTOCL_FLAG_RANDOM_ORDER), in shuffled orders drawn
+// from the pass's seed (btoclPassSeed): the same on every run, device and in the host reference,
+// another in every pass and step. Both velocity passes walk each constraint's rows of a kind
+// shuffled (btoclShuffledRows); the friction pass walks its constraints shuffled too: a group's
+// batches, and a batch's constraints where one lane walks them (btoclShuffledConstraints). The
+// normal pass keeps its constraints' order: shuffled as well, resting stacks jittered at twice
+// or more the kinetic energy of SI's randomized order, at no less drift (README, "Resting quality").
+// A shuffle of [0, n) walks k -> (a k + b) mod n with a prime to n: no table, one step a position.
+typedef struct {
+    int n;     // positions
+    int step;  // a, prime to n
+    int at;    // the next position's value
+} btoclShuffle;
+
+BTOCL_INLINE unsigned int btoclMix(unsigned int x) {
+    x ^= x >> 16;
+    x *= 0x85ebca6bu;
+    x ^= x >> 13;
+    x *= 0xc2b2ae35u;
+    x ^= x >> 16;
+    return x;
+}
+// The seed of one part of a pass (a group, a batch, a constraint), from the seed of the whole.
+BTOCL_INLINE unsigned int btoclSeedOf(unsigned int seed, int part) {
+    return btoclMix(seed ^ btoclMix((unsigned int)part + 0x9e3779b9u));
+}
+// Whether a pass walks its constraints' rows shuffled: SI shuffles its velocity iterations' rows,
+// not its push iterations' or its warm start.
+BTOCL_INLINE int btoclShuffledRows(int pass, int flags) {
+    return (flags & BTOCL_FLAG_RANDOM_ORDER) && (pass == BTOCL_PASS_NORMAL || pass == BTOCL_PASS_FRICTION);
+}
+// Whether a pass walks its constraints shuffled (a group's batches, a batch's constraints).
+BTOCL_INLINE int btoclShuffledConstraints(int pass, int flags) {
+    return (flags & BTOCL_FLAG_RANDOM_ORDER) && pass == BTOCL_PASS_FRICTION;
+}
+// The seed of the pass at `passIndex` of the step's schedule (btoclPassAt).
+BTOCL_INLINE unsigned int btoclPassSeed(btoclPassSchedule s, int passIndex) {
+    return btoclSeedOf(btoclMix(s.orderSeed), passIndex);
+}
+BTOCL_INLINE btoclShuffle btoclInOrder(int n, int start) {
+    btoclShuffle s;
+    s.n = n;
+    s.step = 1;
+    s.at = start;
+    return s;
+}
+BTOCL_INLINE int btoclGcd(int a, int b) {
+    while (b != 0) {
+        const int t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+BTOCL_INLINE btoclShuffle btoclShuffleOf(int n, unsigned int seed) {
+    btoclShuffle s = btoclInOrder(n, 0);
+    if (n < 2) return s;
+    s.at = (int)(seed % (unsigned int)n);
+    s.step = 1 + (int)(btoclMix(seed + 0x9e3779b9u) % (unsigned int)(n - 1));
+    while (btoclGcd(s.step, n) != 1) s.step = s.step + 1 < n ? s.step + 1 : 1;
+    return s;
+}
+// Shuffled with `random`, else in order.
+BTOCL_INLINE btoclShuffle btoclOrderOf(int n, int random, unsigned int seed) {
+    return random ? btoclShuffleOf(n, seed) : btoclInOrder(n, 0);
+}
+BTOCL_INLINE int btoclShuffleNext(btoclShuffle* s) {
+    const int k = s->at;
+    s->at += s->step;
+    if (s->at >= s->n) s->at -= s->n;
+    return k;
+}
+
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once. What a unit impulse does to it is scaled once
 // here, not at every row: a body that cannot move gets zero scales, so no row tests it.
@@ -126,19 +199,20 @@ BTOCL_INLINE float btoclResidual2(BTOCL_GLOBAL const btoclSolveRow* row, float d
     return residual * residual;
 }
 
-// Friction and rolling rows: the limit follows the normal row's impulse of this iteration
-// (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
-// solveSingleIteration).
-BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                                int kind, btoclSolveBody* A, btoclSolveBody* B, int track) {
+// The friction or rolling rows from `first` on, in `order`: the limit follows the normal row's
+// impulse of this iteration (normalOfRow[r]: its index), and a rolling row's limit is capped at
+// its own coefficient (SI's solveSingleIteration).
+BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, int first, btoclShuffle order, int rolling,
+                                                btoclSolveBody* A, btoclSolveBody* B, int track) {
     float maxResidual2 = 0.0f;
-    for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
+    for (int k = 0; k < order.n; ++k) {
+        const int r = first + btoclShuffleNext(&order);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float total = b->applied[b->normalOfRow[r]];
         if (!(total > 0.0f)) continue;
         const float friction = BTOCL_SOLVE_ROW_FRICTION(*row);
         float limit = friction * total;
-        if (kind == BTOCL_ROWS_ROLLING && limit > friction) limit = friction;
+        if (rolling && limit > friction) limit = friction;
         const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, -limit, limit, 0);
         if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
@@ -148,12 +222,13 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, BTOC
 // Joint rows, each within its own limits (motors and joint limits live there), while the joint
 // still takes part: SI solves a joint's rows while iteration < its override count.
 BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration) {
+                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration,
+                                       btoclShuffle order) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
-    const int end = first + c->numRows[BTOCL_ROWS_JOINT];
-    if (first == end || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
-    for (int r = first; r < end; ++r) {
+    if (order.n == 0 || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
+    for (int k = 0; k < order.n; ++k) {
+        const int r = first + btoclShuffleNext(&order);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
                                                  BTOCL_SOLVE_ROW_UPPER(*row), 0);
@@ -168,12 +243,21 @@ BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL 
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
+// seed: the constraint's in this pass (btoclSeedOf), read with BTOCL_FLAG_RANDOM_ORDER: the
+// velocity passes then walk each kind of its rows in a shuffled order (SI shuffles its rows
+// likewise; its push iterations and the warm start keep their order, and so do these).
 BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                              int pass, int flags, int iteration, int numIterations) {
+                                              int pass, int flags, int iteration, int numIterations,
+                                              unsigned int seed) {
     const int push = pass == BTOCL_PASS_PUSH;
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
+    const int random = btoclShuffledRows(pass, flags);
+    // With BTOCL_FLAG_INTERLEAVE_FRICTION (SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) each
+    // point's friction rows follow its normal row in the normal pass, and the friction pass keeps
+    // the rolling rows alone (as SI's iteration).
+    const int interleave = (flags & BTOCL_FLAG_INTERLEAVE_FRICTION) != 0;
     btoclSolveBody A = btoclLoadSolveBody(b->bodies + c->bodyA, b->deltas + c->bodyA, push, applyFactors);
     btoclSolveBody B = btoclLoadSolveBody(b->bodies + c->bodyB, b->deltas + c->bodyB, push, applyFactors);
     float maxResidual2 = 0.0f;
@@ -182,12 +266,22 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
     const int contacts = (pass != BTOCL_PASS_NORMAL && pass != BTOCL_PASS_FRICTION) || iteration < numIterations;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
-            maxResidual2 = btoclSolveFrictionRows(b, c, BTOCL_ROWS_FRICTION, &A, &B, track);
-            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c, BTOCL_ROWS_ROLLING, &A, &B, track));
+            if (!interleave)
+                maxResidual2 = btoclSolveFrictionRows(
+                    b, c->firstRow[BTOCL_ROWS_FRICTION],
+                    btoclOrderOf(c->numRows[BTOCL_ROWS_FRICTION], random, btoclSeedOf(seed, BTOCL_ROWS_FRICTION)), 0,
+                    &A, &B, track);
+            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c->firstRow[BTOCL_ROWS_ROLLING],
+                                                                     btoclOrderOf(c->numRows[BTOCL_ROWS_ROLLING], random,
+                                                                                  btoclSeedOf(seed, BTOCL_ROWS_ROLLING)),
+                                                                     1, &A, &B, track));
         }
     } else {
         // Joints are neither warm-started nor part of the push iterations (SI's neither).
-        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(b, c, &A, &B, track, iteration);
+        if (pass == BTOCL_PASS_NORMAL)
+            maxResidual2 = btoclSolveJointRows(
+                b, c, &A, &B, track, iteration,
+                btoclOrderOf(c->numRows[BTOCL_ROWS_JOINT], random, btoclSeedOf(seed, BTOCL_ROWS_JOINT)));
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
         // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
@@ -196,8 +290,14 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
         const int start = (pass == BTOCL_PASS_NORMAL && (flags & BTOCL_FLAG_ROTATE_POINTS) && count > 1)
                               ? iteration % count
                               : 0;
+        btoclShuffle points = random ? btoclShuffleOf(count, btoclSeedOf(seed, BTOCL_ROWS_NORMAL))
+                                     : btoclInOrder(count, start);
+        // A point's friction rows, when they follow it: one or two (SOLVER_USE_2_FRICTION_DIRECTIONS).
+        const int frictionPerPoint =
+            interleave && pass == BTOCL_PASS_NORMAL && count > 0 ? c->numRows[BTOCL_ROWS_FRICTION] / count : 0;
         for (int k = 0; k < count; ++k) {
-            const int r = first + (start + k < count ? start + k : start + k - count);
+            const int point = btoclShuffleNext(&points);
+            const int r = first + point;
             BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
             float delta;
             if (pass == BTOCL_PASS_WARMSTART) {
@@ -212,6 +312,10 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
                 delta = btoclSolveRowImpulse(row, b->applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);
             }
             if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
+            if (frictionPerPoint > 0)
+                maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(
+                                                      b, c->firstRow[BTOCL_ROWS_FRICTION] + point * frictionPerPoint,
+                                                      btoclInOrder(frictionPerPoint, 0), 0, &A, &B, track));
         }
     }
     btoclStoreSolveBody(&A, b->deltas + c->bodyA, push);

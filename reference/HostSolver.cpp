@@ -29,22 +29,34 @@ SolveRows solveRowsOf(const StepProblem& p) {
     return s;
 }
 
-// One pass over every set, group and batch in layout order; returns the largest squared residual.
-// The iteration and m_numIterations matter to the velocity passes (btoclSolveConstraint).
+// One pass over every set, group and batch in layout order (with the randomized order, each
+// group's batches and each batch's constraints in the orders that one lane walks on the device:
+// solve.cl); returns the largest squared residual. The iteration and m_numIterations matter to
+// the velocity passes (btoclSolveConstraint).
 float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout, std::vector<float>& applied,
-                std::vector<float>& pushApplied, int pass, int flags, int iteration, int numIterations) {
+                std::vector<float>& pushApplied, int pass, int flags, int iteration, int numIterations,
+                unsigned passSeed) {
     const btoclSolveBuffers b{p.constraints.data(), rows.rows.data(), rows.normalOfRow.data(), applied.data(),
                               pushApplied.data(), p.bodies.data(), p.deltas.data()};
+    const int shuffled = btoclShuffledRows(pass, flags), constraintsShuffled = btoclShuffledConstraints(pass, flags);
     float maxResidual2 = 0;
-    for (const btoclGroup& g : layout.groups)
-        for (int k = 0; k < g.numBatches; ++k) {
+    for (const btoclGroup& g : layout.groups) {
+        const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
+        btoclShuffle batches = btoclOrderOf(g.numBatches, constraintsShuffled, groupSeed);
+        for (int kk = 0; kk < g.numBatches; ++kk) {
+            const int k = btoclShuffleNext(&batches);
             const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
-            for (int i = begin; i < end; ++i) {
+            const unsigned batchSeed = shuffled ? btoclSeedOf(groupSeed, k) : 0u;
+            btoclShuffle order = btoclOrderOf(end - begin, constraintsShuffled, batchSeed);
+            for (int j = 0; j < end - begin; ++j) {
+                const int i = begin + btoclShuffleNext(&order);
                 const btoclConstraint* c = b.constraints + layout.solveOrder[size_t(i)];
-                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations));
+                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations,
+                                                                           shuffled ? btoclSeedOf(batchSeed, i) : 0u));
             }
         }
+    }
     return maxResidual2;
 }
 
@@ -65,7 +77,7 @@ int solveOnHost(StepProblem& p, const BatchLayout& layout, const SolveSettings& 
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(schedule, i);
         residual2 = std::max(residual2, solvePass(p, rows, layout, applied, pushApplied, step.pass, settings.flags,
-                                                  step.iteration, schedule.numIterations));
+                                                  step.iteration, schedule.numIterations, btoclPassSeed(schedule, i)));
         if (!step.endsIteration) continue;
         if (step.pass != BTOCL_PASS_PUSH) ++iterations;
         if (track && residual2 <= settings.residualThreshold) {

@@ -38,8 +38,9 @@ inline btoclBody bodyRecordOf(const btRigidBody& rb, bool solverBody) {
 }
 
 // What the iterations read of a btContactSolverInfo. rotatePoints: each iteration starts a
-// manifold's points at another one (btOpenCLSolverConfig).
-inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints) {
+// manifold's points at another one (btOpenCLSolverConfig). orderSeed: the step's seed of its
+// shuffled orders with SOLVER_RANDMIZE_ORDER.
+inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints, unsigned orderSeed = 0) {
     SolveSettings s;
     s.numIterations = info.m_numIterations;
     s.residualThreshold = info.m_leastSquaresResidualThreshold;
@@ -49,6 +50,9 @@ inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotat
     if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
     if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
     if (rotatePoints) s.flags |= BTOCL_FLAG_ROTATE_POINTS;
+    if (info.m_solverMode & SOLVER_RANDMIZE_ORDER) s.flags |= BTOCL_FLAG_RANDOM_ORDER;
+    if (info.m_solverMode & SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) s.flags |= BTOCL_FLAG_INTERLEAVE_FRICTION;
+    s.orderSeed = orderSeed;
     return s;
 }
 

@@ -39,7 +39,8 @@ struct btOpenCLSolverConfig {
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
     // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
-    // order, as Bullet's solver does.
+    // order, as Bullet's solver does. With SOLVER_RANDMIZE_ORDER in the solver info the points'
+    // order is shuffled instead (README, "Solver modes").
     bool rotatePoints = false;
     // A step our solver fails to run (a device error, buffers past the device's limits) is solved
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
