@@ -23,6 +23,13 @@ std::vector<btTransform> runPile(int boxes, int steps, const btOpenCLSolverConfi
     return out;
 }
 
+// A config with the default whole-step threshold, and one that splits every step.
+std::vector<btOpenCLSolverConfig> wholeAndSplit() {
+    btOpenCLSolverConfig split;
+    split.wholeStepMaxRows = 0;
+    return {btOpenCLSolverConfig{}, split};
+}
+
 size_t differingBodies(const std::vector<btTransform>& a, const std::vector<btTransform>& b) {
     size_t differing = 0;
     for (size_t i = 0; i < a.size(); ++i)
@@ -81,9 +88,7 @@ TEST_CASE("a pile ends bitwise the same when the step's arrays are copied from p
           "[determinism]") {
     // BT_OPENCL_TRANSFERS=copy: PoCL copies to and from the device as a GPU does, and the solver
     // puts the step's host arrays in pinned memory (PinnedHostMemory). Whole and split steps.
-    btOpenCLSolverConfig split;
-    split.wholeStepMaxRows = 0;
-    for (const btOpenCLSolverConfig& config : {btOpenCLSolverConfig{}, split}) {
+    for (const btOpenCLSolverConfig& config : wholeAndSplit()) {
         INFO("wholeStepMaxRows " << config.wholeStepMaxRows);
         const std::vector<btTransform> inPlace = runPile(300, 30, config);
         std::vector<btTransform> copied;
@@ -103,9 +108,7 @@ TEST_CASE("with SOLVER_RANDMIZE_ORDER two runs end bitwise equal, and reset() st
     // The shuffled orders come from the steps run since the solver was made or reset (as SI's
     // random sequence restarts at its reset()), never from the device's scheduling. Whole and
     // split steps.
-    btOpenCLSolverConfig split;
-    split.wholeStepMaxRows = 0;
-    for (const btOpenCLSolverConfig& config : {btOpenCLSolverConfig{}, split}) {
+    for (const btOpenCLSolverConfig& config : wholeAndSplit()) {
         INFO("wholeStepMaxRows " << config.wholeStepMaxRows);
         auto run = [&config](bool randomized, int resetBefore) {
             World w(SolverKind::OpenCL, config);

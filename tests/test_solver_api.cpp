@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -64,6 +65,14 @@ struct Islands {
         solver.solveGroup(bodies, 1, ofBody.data(), int(ofBody.size()), nullptr, 0, info, nullptr, &w.dispatcher());
     }
 };
+
+// The same calls by our solver on `ours` and by Bullet's on `bullets` (twin worlds).
+void driveBoth(Islands& ours, btConstraintSolver& solver, Islands& bullets,
+               const std::function<void(Islands&, btConstraintSolver&)>& calls) {
+    btSequentialImpulseConstraintSolver si;
+    calls(ours, solver);
+    calls(bullets, si);
+}
 
 // Body by body, the same velocity within a hundredth of a millimetre a second (our solver
 // against Bullet's on a box resting alone: they agree far closer).
@@ -269,15 +278,14 @@ TEST_CASE("a second prepareSolve inside a step solves the groups gathered before
     // It dropped them: their bodies went unsolved, and kept their companion ids.
     Islands ours, bullets;
     btOpenCLConstraintSolver solver(validatingConfig());
-    btSequentialImpulseConstraintSolver si;
     const btContactSolverInfo info = ours.w.stepInfo();
-    for (auto [islands, s] : {std::pair<Islands*, btConstraintSolver*>{&ours, &solver}, {&bullets, &si}}) {
-        s->prepareSolve(2, 2);
-        islands->group(*s, islands->a, info);
-        s->prepareSolve(2, 2);
-        islands->group(*s, islands->b, info);
-        s->allSolved(info, nullptr);
-    }
+    driveBoth(ours, solver, bullets, [&info](Islands& islands, btConstraintSolver& s) {
+        s.prepareSolve(2, 2);
+        islands.group(s, islands.a, info);
+        s.prepareSolve(2, 2);
+        islands.group(s, islands.b, info);
+        s.allSolved(info, nullptr);
+    });
     CHECK(ours.a->getLinearVelocity().y() > btScalar(-0.05));  // its contacts stopped it
     requireSameVelocities(ours, bullets);
 }
@@ -288,18 +296,17 @@ TEST_CASE("solveGroup calls of one step with other settings are each solved with
     // 60th (the first call's settings, which it was solved with).
     Islands ours, bullets;
     btOpenCLConstraintSolver solver(validatingConfig());
-    btSequentialImpulseConstraintSolver si;
     const btContactSolverInfo at60 = ours.w.stepInfo();
     btContactSolverInfo at30 = at60;
     at30.m_timeStep = btScalar(1) / 30;
     at30.m_numIterations = 4;
-    for (auto [islands, s] : {std::pair<Islands*, btConstraintSolver*>{&ours, &solver}, {&bullets, &si}}) {
-        s->prepareSolve(3, 2);
-        islands->group(*s, islands->a, at60);
-        islands->group(*s, islands->air, at30);
-        islands->group(*s, islands->b, at60);
-        s->allSolved(at60, nullptr);
-    }
+    driveBoth(ours, solver, bullets, [&](Islands& islands, btConstraintSolver& s) {
+        s.prepareSolve(3, 2);
+        islands.group(s, islands.a, at60);
+        islands.group(s, islands.air, at30);
+        islands.group(s, islands.b, at60);
+        s.allSolved(at60, nullptr);
+    });
     CHECK(ours.air->getLinearVelocity().y() < btScalar(-0.3));
     requireSameVelocities(ours, bullets);
 
