@@ -40,13 +40,13 @@ typedef struct {
 // another in every pass and step. Both velocity passes walk each constraint's rows of a kind
 // shuffled (btoclShuffledRows); the friction pass walks its constraints shuffled too: a group's
 // batches, and a batch's constraints where one lane walks them (btoclShuffledConstraints). The
-// normal pass keeps its constraints' order: shuffled as well, resting stacks jittered at twice
-// or more the kinetic energy of SI's randomized order, at no less drift (README, "Resting quality").
-// A shuffle of [0, n) walks k -> (a k + b) mod n with a prime to n: no table, one step a position.
+// normal pass keeps its constraints' order: shuffled as well, resting stacks jittered more than
+// in SI's randomized order, at no less drift (README, "Resting quality").
+// A shuffle of [0, n) puts k -> (a k + b) mod n with a prime to n: no table, no state.
 typedef struct {
-    int n;     // positions
-    int step;  // a, prime to n
-    int at;    // the next position's value
+    int n;      // positions
+    int step;   // a, prime to n
+    int start;  // b
 } btoclShuffle;
 
 BTOCL_INLINE unsigned int btoclMix(unsigned int x) {
@@ -74,13 +74,6 @@ BTOCL_INLINE int btoclShuffledConstraints(int pass, int flags) {
 BTOCL_INLINE unsigned int btoclPassSeed(btoclPassSchedule s, int passIndex) {
     return btoclSeedOf(btoclMix(s.orderSeed), passIndex);
 }
-BTOCL_INLINE btoclShuffle btoclInOrder(int n, int start) {
-    btoclShuffle s;
-    s.n = n;
-    s.step = 1;
-    s.at = start;
-    return s;
-}
 BTOCL_INLINE int btoclGcd(int a, int b) {
     while (b != 0) {
         const int t = a % b;
@@ -90,22 +83,23 @@ BTOCL_INLINE int btoclGcd(int a, int b) {
     return a;
 }
 BTOCL_INLINE btoclShuffle btoclShuffleOf(int n, unsigned int seed) {
-    btoclShuffle s = btoclInOrder(n, 0);
+    btoclShuffle s;
+    s.n = n;
+    s.step = 1;
+    s.start = 0;
     if (n < 2) return s;
-    s.at = (int)(seed % (unsigned int)n);
+    s.start = (int)(seed % (unsigned int)n);
     s.step = 1 + (int)(btoclMix(seed + 0x9e3779b9u) % (unsigned int)(n - 1));
     while (btoclGcd(s.step, n) != 1) s.step = s.step + 1 < n ? s.step + 1 : 1;
     return s;
 }
-// Shuffled with `random`, else in order.
-BTOCL_INLINE btoclShuffle btoclOrderOf(int n, int random, unsigned int seed) {
-    return random ? btoclShuffleOf(n, seed) : btoclInOrder(n, 0);
+// What position k of the shuffle holds.
+BTOCL_INLINE int btoclShuffleAt(btoclShuffle s, int k) {
+    return (int)(((long)s.step * k + s.start) % s.n);
 }
-BTOCL_INLINE int btoclShuffleNext(btoclShuffle* s) {
-    const int k = s->at;
-    s->at += s->step;
-    if (s->at >= s->n) s->at -= s->n;
-    return k;
+// Position k of [0, n) walked in order, or shuffled by `seed` with `random`.
+BTOCL_INLINE int btoclOrderAt(int n, int random, unsigned int seed, int k) {
+    return random ? btoclShuffleAt(btoclShuffleOf(n, seed), k) : k;
 }
 
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
@@ -199,14 +193,16 @@ BTOCL_INLINE float btoclResidual2(BTOCL_GLOBAL const btoclSolveRow* row, float d
     return residual * residual;
 }
 
-// The friction or rolling rows from `first` on, in `order`: the limit follows the normal row's
-// impulse of this iteration (normalOfRow[r]: its index), and a rolling row's limit is capped at
-// its own coefficient (SI's solveSingleIteration).
-BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, int first, btoclShuffle order, int rolling,
-                                                btoclSolveBody* A, btoclSolveBody* B, int track) {
+// The `count` friction or rolling rows from `first` on, in order or shuffled by `seed` with
+// `random`: the limit follows the normal row's impulse of this iteration (normalOfRow[r]: its
+// index), and a rolling row's limit is capped at its own coefficient (SI's solveSingleIteration).
+BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, int first, int count, int random,
+                                                unsigned int seed, int rolling, btoclSolveBody* A, btoclSolveBody* B,
+                                                int track) {
+    const btoclShuffle order = btoclShuffleOf(random ? count : 0, seed);
     float maxResidual2 = 0.0f;
-    for (int k = 0; k < order.n; ++k) {
-        const int r = first + btoclShuffleNext(&order);
+    for (int k = 0; k < count; ++k) {
+        const int r = first + (random ? btoclShuffleAt(order, k) : k);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float total = b->applied[b->normalOfRow[r]];
         if (!(total > 0.0f)) continue;
@@ -221,14 +217,17 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, int 
 
 // Joint rows, each within its own limits (motors and joint limits live there), while the joint
 // still takes part: SI solves a joint's rows while iteration < its override count.
+// With `random`, in an order shuffled by `seed`.
 BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration,
-                                       btoclShuffle order) {
+                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration, int random,
+                                       unsigned int seed) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
-    if (order.n == 0 || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
-    for (int k = 0; k < order.n; ++k) {
-        const int r = first + btoclShuffleNext(&order);
+    const int count = c->numRows[BTOCL_ROWS_JOINT];
+    if (count == 0 || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
+    const btoclShuffle order = btoclShuffleOf(random ? count : 0, seed);
+    for (int k = 0; k < count; ++k) {
+        const int r = first + (random ? btoclShuffleAt(order, k) : k);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
                                                  BTOCL_SOLVE_ROW_UPPER(*row), 0);
@@ -243,21 +242,17 @@ BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL 
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
-// seed: the constraint's in this pass (btoclSeedOf), read with BTOCL_FLAG_RANDOM_ORDER: the
-// velocity passes then walk each kind of its rows in a shuffled order (SI shuffles its rows
-// likewise; its push iterations and the warm start keep their order, and so do these).
-BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                              int pass, int flags, int iteration, int numIterations,
-                                              unsigned int seed) {
+// random: each kind of its rows walked in a shuffled order drawn from `seed` (btoclShuffledRows).
+// interleave (BTOCL_FLAG_INTERLEAVE_FRICTION: SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS):
+// each point's friction rows follow its normal row in the normal pass, and the friction pass
+// keeps the rolling rows alone (as SI's iteration).
+BTOCL_SOLVE_INLINE float btoclSolveConstraintInOrder(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                                     int pass, int flags, int iteration, int numIterations,
+                                                     unsigned int seed, int random, int interleave) {
     const int push = pass == BTOCL_PASS_PUSH;
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
     const int track = (flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
-    const int random = btoclShuffledRows(pass, flags);
-    // With BTOCL_FLAG_INTERLEAVE_FRICTION (SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) each
-    // point's friction rows follow its normal row in the normal pass, and the friction pass keeps
-    // the rolling rows alone (as SI's iteration).
-    const int interleave = (flags & BTOCL_FLAG_INTERLEAVE_FRICTION) != 0;
     btoclSolveBody A = btoclLoadSolveBody(b->bodies + c->bodyA, b->deltas + c->bodyA, push, applyFactors);
     btoclSolveBody B = btoclLoadSolveBody(b->bodies + c->bodyB, b->deltas + c->bodyB, push, applyFactors);
     float maxResidual2 = 0.0f;
@@ -267,21 +262,17 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
             if (!interleave)
-                maxResidual2 = btoclSolveFrictionRows(
-                    b, c->firstRow[BTOCL_ROWS_FRICTION],
-                    btoclOrderOf(c->numRows[BTOCL_ROWS_FRICTION], random, btoclSeedOf(seed, BTOCL_ROWS_FRICTION)), 0,
-                    &A, &B, track);
+                maxResidual2 = btoclSolveFrictionRows(b, c->firstRow[BTOCL_ROWS_FRICTION], c->numRows[BTOCL_ROWS_FRICTION],
+                                                      random, btoclSeedOf(seed, BTOCL_ROWS_FRICTION), 0, &A, &B, track);
             maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c->firstRow[BTOCL_ROWS_ROLLING],
-                                                                     btoclOrderOf(c->numRows[BTOCL_ROWS_ROLLING], random,
-                                                                                  btoclSeedOf(seed, BTOCL_ROWS_ROLLING)),
-                                                                     1, &A, &B, track));
+                                                                     c->numRows[BTOCL_ROWS_ROLLING], random,
+                                                                     btoclSeedOf(seed, BTOCL_ROWS_ROLLING), 1, &A, &B,
+                                                                     track));
         }
     } else {
         // Joints are neither warm-started nor part of the push iterations (SI's neither).
         if (pass == BTOCL_PASS_NORMAL)
-            maxResidual2 = btoclSolveJointRows(
-                b, c, &A, &B, track, iteration,
-                btoclOrderOf(c->numRows[BTOCL_ROWS_JOINT], random, btoclSeedOf(seed, BTOCL_ROWS_JOINT)));
+            maxResidual2 = btoclSolveJointRows(b, c, &A, &B, track, iteration, random, btoclSeedOf(seed, BTOCL_ROWS_JOINT));
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
         // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
@@ -290,13 +281,12 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
         const int start = (pass == BTOCL_PASS_NORMAL && (flags & BTOCL_FLAG_ROTATE_POINTS) && count > 1)
                               ? iteration % count
                               : 0;
-        btoclShuffle points = random ? btoclShuffleOf(count, btoclSeedOf(seed, BTOCL_ROWS_NORMAL))
-                                     : btoclInOrder(count, start);
+        const btoclShuffle points = btoclShuffleOf(random ? count : 0, btoclSeedOf(seed, BTOCL_ROWS_NORMAL));
         // A point's friction rows, when they follow it: one or two (SOLVER_USE_2_FRICTION_DIRECTIONS).
         const int frictionPerPoint =
             interleave && pass == BTOCL_PASS_NORMAL && count > 0 ? c->numRows[BTOCL_ROWS_FRICTION] / count : 0;
         for (int k = 0; k < count; ++k) {
-            const int point = btoclShuffleNext(&points);
+            const int point = random ? btoclShuffleAt(points, k) : (start + k < count ? start + k : start + k - count);
             const int r = first + point;
             BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
             float delta;
@@ -315,12 +305,27 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
             if (frictionPerPoint > 0)
                 maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(
                                                       b, c->firstRow[BTOCL_ROWS_FRICTION] + point * frictionPerPoint,
-                                                      btoclInOrder(frictionPerPoint, 0), 0, &A, &B, track));
+                                                      frictionPerPoint, 0, 0u, 0, &A, &B, track));
         }
     }
     btoclStoreSolveBody(&A, b->deltas + c->bodyA, push);
     btoclStoreSolveBody(&B, b->deltas + c->bodyB, push);
     return maxResidual2;
+}
+
+// seed: the constraint's in this pass (btoclSeedOf), read with BTOCL_FLAG_RANDOM_ORDER: the
+// velocity passes then walk each kind of its rows in a shuffled order (SI shuffles its rows
+// likewise; its push iterations and the warm start keep their order, and so do these). Two copies
+// of the walk: the fixed order's has no reordering left in it (one copy for all orders made the
+// wide path's solve slower on PoCL).
+BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                              int pass, int flags, int iteration, int numIterations,
+                                              unsigned int seed) {
+    if (flags & (BTOCL_FLAG_RANDOM_ORDER | BTOCL_FLAG_INTERLEAVE_FRICTION))
+        return btoclSolveConstraintInOrder(b, c, pass, flags, iteration, numIterations, seed,
+                                           btoclShuffledRows(pass, flags),
+                                           (flags & BTOCL_FLAG_INTERLEAVE_FRICTION) != 0);
+    return btoclSolveConstraintInOrder(b, c, pass, flags, iteration, numIterations, 0u, 0, 0);
 }
 
 #endif

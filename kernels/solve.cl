@@ -25,41 +25,55 @@
 // ... bundled at the kernel's entry.
 #define BTOCL_SOLVE_BUFFERS_OF_PARAMS {constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas}
 
-// Batch k of group g, its constraints taken by `lanes` lanes from `lane` on: one lane walks them
-// in order, or shuffled where the pass shuffles its constraints; several solve them side by side
-// (they share no dynamic body: their order changes nothing). groupSeed: btoclSeedOf(passSeed,
-// g.offset), the seed of the group's orders (row_solve.h).
-inline float solveBatch(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int k, int lane,
-                        int lanes, int pass, int flags, int iteration, int numIterations, unsigned int groupSeed) {
+// Batch k of group g, its constraints taken by `lanes` lanes from `lane` on, in a pass that
+// shuffles its rows (row_solve.h): one lane walks the constraints shuffled where the pass shuffles
+// them; several solve them side by side in any order (they share no dynamic body).
+// groupSeed: btoclSeedOf(passSeed, g.offset), the seed of the group's orders.
+inline float solveShuffledBatch(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int k, int lane,
+                                int lanes, int pass, int flags, int iteration, int numIterations,
+                                unsigned int groupSeed) {
     const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
     const int end = batchEnd[g.offset + k];
-    const int shuffled = btoclShuffledRows(pass, flags);
-    const unsigned int batchSeed = shuffled ? btoclSeedOf(groupSeed, k) : 0u;
-    btoclShuffle order = btoclOrderOf(end - begin, btoclShuffledConstraints(pass, flags) && lanes == 1, batchSeed);
+    const unsigned int batchSeed = btoclSeedOf(groupSeed, k);
+    const int oneLaneShuffles = lanes == 1 && btoclShuffledConstraints(pass, flags);
     float maxResidual2 = 0.0f;
     for (int j = lane; j < end - begin; j += lanes) {
-        const int i = begin + (lanes == 1 ? btoclShuffleNext(&order) : j);
+        const int i = begin + btoclOrderAt(end - begin, oneLaneShuffles, batchSeed, j);
         maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration,
-                                                               numIterations, shuffled ? btoclSeedOf(batchSeed, i) : 0u));
+                                                               numIterations, btoclSeedOf(batchSeed, i)));
     }
     return maxResidual2;
 }
 
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
-// this one wrote; shuffled where the pass shuffles its constraints), the lanes of the work-group
-// sharing a batch. Returns this lane's largest squared residual. Every lane must call it: it holds
-// barriers.
+// this one wrote), the lanes of the work-group sharing a batch. Where the pass shuffles its rows,
+// the batches come in a shuffled order where it shuffles its constraints, and each batch as
+// solveShuffledBatch walks it: a loop of its own, so that the fixed order's stays as PoCL
+// compiled it (one loop for both made the wide path's solve slower). Returns this lane's largest
+// squared residual. Every lane must call it: it holds barriers.
 inline float solveCellGroup(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int pass, int flags,
                             int iteration, int numIterations, unsigned int passSeed) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
-    const unsigned int groupSeed = btoclShuffledRows(pass, flags) ? btoclSeedOf(passSeed, g.offset) : 0u;
-    btoclShuffle batches = btoclOrderOf(g.numBatches, btoclShuffledConstraints(pass, flags), groupSeed);
     float maxResidual2 = 0.0f;
-    for (int kk = 0; kk < g.numBatches; ++kk) {
-        const int k = btoclShuffleNext(&batches);
-        maxResidual2 = fmax(maxResidual2, solveBatch(b, g, batchEnd, k, lane, lanes, pass, flags, iteration,
-                                                     numIterations, groupSeed));
+    if (btoclShuffledRows(pass, flags)) {  // uniform: every lane takes the same branch
+        const unsigned int groupSeed = btoclSeedOf(passSeed, g.offset);
+        const int shuffled = btoclShuffledConstraints(pass, flags);
+        for (int kk = 0; kk < g.numBatches; ++kk) {
+            maxResidual2 = fmax(maxResidual2, solveShuffledBatch(b, g, batchEnd,
+                                                                 btoclOrderAt(g.numBatches, shuffled, groupSeed, kk),
+                                                                 lane, lanes, pass, flags, iteration, numIterations,
+                                                                 groupSeed));
+            barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+        }
+        return maxResidual2;
+    }
+    for (int k = 0; k < g.numBatches; ++k) {
+        const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
+        const int end = batchEnd[g.offset + k];
+        for (int i = begin + lane; i < end; i += lanes)
+            maxResidual2 = fmax(maxResidual2,
+                                btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations, 0u));
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
     return maxResidual2;
@@ -176,10 +190,11 @@ BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btocl
     float maxResidual2 = 0.0f;
     if (btoclShuffledRows(pass, flags)) {
         const unsigned int groupSeed = btoclSeedOf(passSeed, g.offset);
-        btoclShuffle batches = btoclOrderOf(g.numBatches, btoclShuffledConstraints(pass, flags), groupSeed);
+        const int shuffled = btoclShuffledConstraints(pass, flags);
         for (int kk = 0; kk < g.numBatches; ++kk)
-            maxResidual2 = fmax(maxResidual2, solveBatch(b, g, batchEnd, btoclShuffleNext(&batches), 0, 1, pass, flags,
-                                                         iteration, numIterations, groupSeed));
+            maxResidual2 = fmax(maxResidual2, solveShuffledBatch(b, g, batchEnd,
+                                                                 btoclOrderAt(g.numBatches, shuffled, groupSeed, kk), 0,
+                                                                 1, pass, flags, iteration, numIterations, groupSeed));
         return maxResidual2;
     }
     for (int i = g.offset; i < g.offset + g.count; ++i) {

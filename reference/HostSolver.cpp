@@ -42,15 +42,13 @@ float solvePass(StepProblem& p, const SolveRows& rows, const BatchLayout& layout
     float maxResidual2 = 0;
     for (const btoclGroup& g : layout.groups) {
         const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
-        btoclShuffle batches = btoclOrderOf(g.numBatches, constraintsShuffled, groupSeed);
         for (int kk = 0; kk < g.numBatches; ++kk) {
-            const int k = btoclShuffleNext(&batches);
+            const int k = btoclOrderAt(g.numBatches, constraintsShuffled, groupSeed, kk);
             const int begin = k == 0 ? g.offset : layout.batchEnd[size_t(g.offset + k - 1)];
             const int end = layout.batchEnd[size_t(g.offset + k)];
             const unsigned batchSeed = shuffled ? btoclSeedOf(groupSeed, k) : 0u;
-            btoclShuffle order = btoclOrderOf(end - begin, constraintsShuffled, batchSeed);
             for (int j = 0; j < end - begin; ++j) {
-                const int i = begin + btoclShuffleNext(&order);
+                const int i = begin + btoclOrderAt(end - begin, constraintsShuffled, batchSeed, j);
                 const btoclConstraint* c = b.constraints + layout.solveOrder[size_t(i)];
                 maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations,
                                                                            shuffled ? btoclSeedOf(batchSeed, i) : 0u));

@@ -97,11 +97,11 @@ TEST_CASE("the randomized order's shuffles take every position once", "[modes]")
     int shuffled = 0;
     for (int n = 0; n <= 300; ++n)
         for (unsigned seed = 0; seed < 16; ++seed) {
-            btoclShuffle s = btoclShuffleOf(n, seed);
+            const btoclShuffle s = btoclShuffleOf(n, seed);
             std::vector<int> seen(size_t(n), 0);
             bool inOrder = true;
             for (int k = 0; k < n; ++k) {
-                const int at = btoclShuffleNext(&s);
+                const int at = btoclShuffleAt(s, k);
                 REQUIRE(at >= 0);
                 REQUIRE(at < n);
                 ++seen[size_t(at)];
