@@ -49,7 +49,7 @@ void StepPipeline::warmUp(KernelWarmUp* timing) {
 void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info,
                        btOpenCLSolverStats& s) {
     const auto t0 = std::chrono::steady_clock::now();
-    const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints);
+    const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints, m_orderSeed++);
     const StepPlan step = planStep(m_plan, p, settings);
     if (step.onHost())
         solveOnHost(p, bullet, step, settings, s);

@@ -55,6 +55,9 @@ public:
     const OclRuntime& runtime() const { return m_runtime; }
     const SolverPlan& plan() const { return m_plan; }
     const char* sortAndScanName() const { return m_primitives.backendName(); }
+    // The shuffled orders of SOLVER_RANDMIZE_ORDER start again from the first step's, as
+    // btSequentialImpulseConstraintSolver::reset() restarts its random sequence.
+    void restartOrders() { m_orderSeed = 0; }
 
 private:
     void solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step, const SolveSettings& settings,
@@ -73,6 +76,7 @@ private:
     DeviceLayout m_layout;
     HostSolve m_hostSolve;
     bool m_warmedUp = false;
+    unsigned m_orderSeed = 0;  // steps run since the solver was made or reset
 };
 
 // The global split's settings of a config.

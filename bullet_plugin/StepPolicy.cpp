@@ -1,17 +1,11 @@
 #include "StepPolicy.h"
 
-#include <cctype>
 #include <cstdlib>
 #include <limits>
 #include <string>
 
 namespace btocl {
 namespace {
-
-std::string lowercase(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 // When a step runs whole in one launch of one work-group (no global split, no sets): when the
 // split and the sets' groups solved side by side would save less than they cost.
@@ -38,7 +32,7 @@ long long resolveHostStepMaxRows(int asked) {
     if (asked == 0) return never;
     if (asked > 0) return asked;
     if (const char* env = std::getenv("BT_OPENCL_HOST_STEPS"); env && *env) {
-        const std::string value = lowercase(env);
+        const std::string value = lowerCase(env);
         if (value == "never") return never;
         if (value == "always") return always;
         if (value != "auto")
@@ -51,10 +45,10 @@ long long resolveHostStepMaxRows(int asked) {
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
     if (asked != btOpenCLSolvePath::Auto) return asked;
     if (const char* env = std::getenv("BT_OPENCL_SOLVE_PATH"); env && *env) {
-        const std::string value = env;
-        if (value == "serial") return btOpenCLSolvePath::Serial;
-        if (value == "wide") return btOpenCLSolvePath::Wide;
-        if (value != "auto")
+        const std::string value = env, key = lowerCase(value);
+        if (key == "serial") return btOpenCLSolvePath::Serial;
+        if (key == "wide") return btOpenCLSolvePath::Wide;
+        if (key != "auto")
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SOLVE_PATH is '" + value +
                                       "'; it takes auto, serial or wide");
     }

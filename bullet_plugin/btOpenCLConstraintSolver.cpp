@@ -3,6 +3,7 @@
 // handed to Bullet's solver where the config asks.
 #include "btOpenCLConstraintSolver.h"
 
+#include "BulletConversions.h"
 #include "BulletFallback.h"
 #include "BulletGather.h"
 #include "HostParallel.h"
@@ -131,6 +132,9 @@ btOpenCLConstraintSolver::btOpenCLConstraintSolver(const btOpenCLSolverConfig& c
 btOpenCLConstraintSolver::~btOpenCLConstraintSolver() = default;
 
 void btOpenCLConstraintSolver::prepareSolve(int numBodies, int numManifolds) {
+    // A prepareSolve inside a step: the groups gathered so far are solved first, as Bullet's
+    // solver solved each at its solveGroup call (none is dropped).
+    m_impl->run();
     // The gather's loops start once the world has built its islands: a step large enough to run
     // them in parallel wakes the host's threads now.
     if (size_t(numManifolds) + size_t(numBodies) * btocl::kRigidBodyWeight >= btocl::minParallelItems())
@@ -148,6 +152,9 @@ btScalar btOpenCLConstraintSolver::solveGroup(btCollisionObject** bodies, int nu
     try {
         btocl::checkSolveGroupArguments(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints);
         btocl::checkSolverInfo(info);
+        // Groups gathered under other settings are solved with theirs first: Bullet's solver
+        // solves each call with its own.
+        if (impl.gathering && !btocl::sameStepSettings(impl.gatherer.info(), info)) impl.run();
         impl.keepForFallback(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer,
                              dispatcher);
         impl.collect(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info);
@@ -166,7 +173,7 @@ void btOpenCLConstraintSolver::allSolved(const btContactSolverInfo&, btIDebugDra
 
 void btOpenCLConstraintSolver::warmUp() { m_impl->pipeline.warmUp(); }
 
-void btOpenCLConstraintSolver::reset() {}
+void btOpenCLConstraintSolver::reset() { m_impl->pipeline.restartOrders(); }
 btConstraintSolverType btOpenCLConstraintSolver::getSolverType() const { return BT_SEQUENTIAL_IMPULSE_SOLVER; }
 const btOpenCLSolverStats& btOpenCLConstraintSolver::getLastStats() const { return m_impl->stats; }
 std::string btOpenCLConstraintSolver::getDeviceName() const { return m_impl->pipeline.runtime().deviceName(); }

@@ -1,5 +1,9 @@
 # Compile settings shared by every target of ours (library, demos, tests), in one place.
 option(BTOCL_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer (UB stops the program)" OFF)
+option(BTOCL_SANITIZE_THREAD "Build with ThreadSanitizer (scripts/test-threads-tsan.sh: the thread tests)" OFF)
+if(BTOCL_SANITIZE AND BTOCL_SANITIZE_THREAD)
+  message(FATAL_ERROR "BTOCL_SANITIZE and BTOCL_SANITIZE_THREAD cannot be on in one build")
+endif()
 
 function(btocl_target_defaults target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-ignored-attributes)
@@ -11,5 +15,9 @@ function(btocl_target_defaults target)
     # PUBLIC: whatever links a sanitized static library needs the sanitizers' runtimes too (the
     # installed package passes this on to its consumers).
     target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+  endif()
+  if(BTOCL_SANITIZE_THREAD)
+    target_compile_options(${target} PRIVATE -fsanitize=thread -fno-omit-frame-pointer)
+    target_link_options(${target} PUBLIC -fsanitize=thread)
   endif()
 endfunction()

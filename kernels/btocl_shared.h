@@ -93,6 +93,7 @@ typedef struct {
     int pushIterations;  // 0 where no contact point may get a push share
     int numIterations;   // m_numIterations: contact rows take part in these
     int maxIterations;   // velocity iterations: numIterations, or more where a joint asks
+    unsigned int orderSeed;  // with BTOCL_FLAG_RANDOM_ORDER: the step's seed of its shuffled orders
 } btoclPassSchedule;
 
 // One pass of the schedule.
@@ -146,6 +147,9 @@ BTOCL_INLINE btoclPassStep btoclPassAt(btoclPassSchedule s, int index) {
 #define BTOCL_FLAG_APPLY_FACTORS 1   // scale applied impulses by the body factors (SI without SOLVER_SIMD)
 #define BTOCL_FLAG_TRACK_RESIDUAL 2  // m_leastSquaresResidualThreshold > 0: stop early on the device
 #define BTOCL_FLAG_ROTATE_POINTS 4   // each iteration starts a manifold's normal rows at another point
+#define BTOCL_FLAG_RANDOM_ORDER 8    // SOLVER_RANDMIZE_ORDER: velocity passes in shuffled orders (row_solve.h)
+#define BTOCL_FLAG_INTERLEAVE_FRICTION 16  // SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS: each
+                                           // point's friction rows right after its normal row
 
 // Bullet's flags that row setup reads (checked against Bullet's own values in bullet_plugin/bullet/BulletGather.cpp).
 #define BTOCL_SOLVER_USE_WARMSTARTING 4

@@ -35,6 +35,73 @@ typedef struct {
     BTOCL_GLOBAL btoclBodyDelta* deltas;
 } btoclSolveBuffers;
 
+// The randomized order (SOLVER_RANDMIZE_ORDER: BTOCL_FLAG_RANDOM_ORDER), in shuffled orders drawn
+// from the pass's seed (btoclPassSeed): the same on every run, device and in the host reference,
+// another in every pass and step. Both velocity passes walk each constraint's rows of a kind
+// shuffled (btoclShuffledRows); the friction pass walks its constraints shuffled too: a group's
+// batches, and a batch's constraints where one lane walks them (btoclShuffledConstraints). The
+// normal pass keeps its constraints' order: shuffled as well, resting stacks jittered more than
+// in SI's randomized order, at no less drift (README, "Resting quality").
+// A shuffle of [0, n) puts k -> (a k + b) mod n with a prime to n: no table, no state.
+typedef struct {
+    int n;      // positions
+    int step;   // a, prime to n
+    int start;  // b
+} btoclShuffle;
+
+BTOCL_INLINE unsigned int btoclMix(unsigned int x) {
+    x ^= x >> 16;
+    x *= 0x85ebca6bu;
+    x ^= x >> 13;
+    x *= 0xc2b2ae35u;
+    x ^= x >> 16;
+    return x;
+}
+// The seed of one part of a pass (a group, a batch, a constraint), from the seed of the whole.
+BTOCL_INLINE unsigned int btoclSeedOf(unsigned int seed, int part) {
+    return btoclMix(seed ^ btoclMix((unsigned int)part + 0x9e3779b9u));
+}
+// Whether a pass walks its constraints' rows shuffled: SI shuffles its velocity iterations' rows,
+// not its push iterations' or its warm start.
+BTOCL_INLINE int btoclShuffledRows(int pass, int flags) {
+    return (flags & BTOCL_FLAG_RANDOM_ORDER) && (pass == BTOCL_PASS_NORMAL || pass == BTOCL_PASS_FRICTION);
+}
+// Whether a pass walks its constraints shuffled (a group's batches, a batch's constraints).
+BTOCL_INLINE int btoclShuffledConstraints(int pass, int flags) {
+    return (flags & BTOCL_FLAG_RANDOM_ORDER) && pass == BTOCL_PASS_FRICTION;
+}
+// The seed of the pass at `passIndex` of the step's schedule (btoclPassAt).
+BTOCL_INLINE unsigned int btoclPassSeed(btoclPassSchedule s, int passIndex) {
+    return btoclSeedOf(btoclMix(s.orderSeed), passIndex);
+}
+BTOCL_INLINE int btoclGcd(int a, int b) {
+    while (b != 0) {
+        const int t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+BTOCL_INLINE btoclShuffle btoclShuffleOf(int n, unsigned int seed) {
+    btoclShuffle s;
+    s.n = n;
+    s.step = 1;
+    s.start = 0;
+    if (n < 2) return s;
+    s.start = (int)(seed % (unsigned int)n);
+    s.step = 1 + (int)(btoclMix(seed + 0x9e3779b9u) % (unsigned int)(n - 1));
+    while (btoclGcd(s.step, n) != 1) s.step = s.step + 1 < n ? s.step + 1 : 1;
+    return s;
+}
+// What position k of the shuffle holds.
+BTOCL_INLINE int btoclShuffleAt(btoclShuffle s, int k) {
+    return (int)(((long)s.step * k + s.start) % s.n);
+}
+// Position k of [0, n) walked in order, or shuffled by `seed` with `random`.
+BTOCL_INLINE int btoclOrderAt(int n, int random, unsigned int seed, int k) {
+    return random ? btoclShuffleAt(btoclShuffleOf(n, seed), k) : k;
+}
+
 // A body's part in one constraint: read once, updated by each of the constraint's rows (they all
 // act on the same two bodies), written back once. What a unit impulse does to it is scaled once
 // here, not at every row: a body that cannot move gets zero scales, so no row tests it.
@@ -126,19 +193,22 @@ BTOCL_INLINE float btoclResidual2(BTOCL_GLOBAL const btoclSolveRow* row, float d
     return residual * residual;
 }
 
-// Friction and rolling rows: the limit follows the normal row's impulse of this iteration
-// (normalOfRow[r]: its index), and a rolling row's limit is capped at its own coefficient (SI's
-// solveSingleIteration).
-BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                                int kind, btoclSolveBody* A, btoclSolveBody* B, int track) {
+// The `count` friction or rolling rows from `first` on, in order or shuffled by `seed` with
+// `random`: the limit follows the normal row's impulse of this iteration (normalOfRow[r]: its
+// index), and a rolling row's limit is capped at its own coefficient (SI's solveSingleIteration).
+BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, int first, int count, int random,
+                                                unsigned int seed, int rolling, btoclSolveBody* A, btoclSolveBody* B,
+                                                int track) {
+    const btoclShuffle order = btoclShuffleOf(random ? count : 0, seed);
     float maxResidual2 = 0.0f;
-    for (int r = c->firstRow[kind]; r < c->firstRow[kind] + c->numRows[kind]; ++r) {
+    for (int k = 0; k < count; ++k) {
+        const int r = first + (random ? btoclShuffleAt(order, k) : k);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float total = b->applied[b->normalOfRow[r]];
         if (!(total > 0.0f)) continue;
         const float friction = BTOCL_SOLVE_ROW_FRICTION(*row);
         float limit = friction * total;
-        if (kind == BTOCL_ROWS_ROLLING && limit > friction) limit = friction;
+        if (rolling && limit > friction) limit = friction;
         const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, -limit, limit, 0);
         if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
     }
@@ -147,13 +217,17 @@ BTOCL_SOLVE_INLINE float btoclSolveFrictionRows(const btoclSolveBuffers* b, BTOC
 
 // Joint rows, each within its own limits (motors and joint limits live there), while the joint
 // still takes part: SI solves a joint's rows while iteration < its override count.
+// With `random`, in an order shuffled by `seed`.
 BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration) {
+                                       btoclSolveBody* A, btoclSolveBody* B, int track, int iteration, int random,
+                                       unsigned int seed) {
     float maxResidual2 = 0.0f;
     const int first = c->firstRow[BTOCL_ROWS_JOINT];
-    const int end = first + c->numRows[BTOCL_ROWS_JOINT];
-    if (first == end || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
-    for (int r = first; r < end; ++r) {
+    const int count = c->numRows[BTOCL_ROWS_JOINT];
+    if (count == 0 || (float)iteration >= BTOCL_CONSTRAINT_ITERATIONS(*c)) return 0.0f;
+    const btoclShuffle order = btoclShuffleOf(random ? count : 0, seed);
+    for (int k = 0; k < count; ++k) {
+        const int r = first + (random ? btoclShuffleAt(order, k) : k);
         BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
         const float delta = btoclSolveRowImpulse(row, b->applied + r, A, B, BTOCL_SOLVE_ROW_LOWER(*row),
                                                  BTOCL_SOLVE_ROW_UPPER(*row), 0);
@@ -168,8 +242,13 @@ BTOCL_INLINE float btoclSolveJointRows(const btoclSolveBuffers* b, BTOCL_GLOBAL 
 // BTOCL_CONSTRAINT_ITERATIONS) of them (SI's maxIterations); contact rows take part while
 // iteration < numIterations (m_numIterations), joint rows as btoclSolveJointRows says. Joint rows
 // come first, as in SI's iteration (a constraint holds either kind: a joint or a contact manifold).
-BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
-                                              int pass, int flags, int iteration, int numIterations) {
+// random: each kind of its rows walked in a shuffled order drawn from `seed` (btoclShuffledRows).
+// interleave (BTOCL_FLAG_INTERLEAVE_FRICTION: SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS):
+// each point's friction rows follow its normal row in the normal pass, and the friction pass
+// keeps the rolling rows alone (as SI's iteration).
+BTOCL_SOLVE_INLINE float btoclSolveConstraintInOrder(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                                     int pass, int flags, int iteration, int numIterations,
+                                                     unsigned int seed, int random, int interleave) {
     const int push = pass == BTOCL_PASS_PUSH;
     // SI applies the factors to the warm start as it sets the rows up, whatever its mode.
     const int applyFactors = pass == BTOCL_PASS_WARMSTART || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
@@ -180,8 +259,9 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
     const int jointRows = (float)iteration < BTOCL_CONSTRAINT_ITERATIONS(*c) ? c->numRows[BTOCL_ROWS_JOINT] : 0;
     // A pass with no row of this constraint leaves its bodies as they are: their loads and stores
     // are skipped (a joint in the friction pass, a manifold past m_numIterations).
+    const int frictionRows = interleave ? 0 : c->numRows[BTOCL_ROWS_FRICTION];  // else in the normal pass
     const int rowsOfPass = pass == BTOCL_PASS_FRICTION
-                               ? (contacts ? c->numRows[BTOCL_ROWS_FRICTION] + c->numRows[BTOCL_ROWS_ROLLING] : 0)
+                               ? (contacts ? frictionRows + c->numRows[BTOCL_ROWS_ROLLING] : 0)
                            : pass == BTOCL_PASS_NORMAL ? (contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0) + jointRows
                                                        : c->numRows[BTOCL_ROWS_NORMAL];
     if (rowsOfPass == 0) return 0.0f;
@@ -190,12 +270,18 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
     float maxResidual2 = 0.0f;
     if (pass == BTOCL_PASS_FRICTION) {
         if (contacts) {
-            maxResidual2 = btoclSolveFrictionRows(b, c, BTOCL_ROWS_FRICTION, &A, &B, track);
-            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c, BTOCL_ROWS_ROLLING, &A, &B, track));
+            if (!interleave)
+                maxResidual2 = btoclSolveFrictionRows(b, c->firstRow[BTOCL_ROWS_FRICTION], c->numRows[BTOCL_ROWS_FRICTION],
+                                                      random, btoclSeedOf(seed, BTOCL_ROWS_FRICTION), 0, &A, &B, track);
+            maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(b, c->firstRow[BTOCL_ROWS_ROLLING],
+                                                                     c->numRows[BTOCL_ROWS_ROLLING], random,
+                                                                     btoclSeedOf(seed, BTOCL_ROWS_ROLLING), 1, &A, &B,
+                                                                     track));
         }
     } else {
         // Joints are neither warm-started nor part of the push iterations (SI's neither).
-        if (pass == BTOCL_PASS_NORMAL) maxResidual2 = btoclSolveJointRows(b, c, &A, &B, track, iteration);
+        if (pass == BTOCL_PASS_NORMAL)
+            maxResidual2 = btoclSolveJointRows(b, c, &A, &B, track, iteration, random, btoclSeedOf(seed, BTOCL_ROWS_JOINT));
         const int first = c->firstRow[BTOCL_ROWS_NORMAL];
         const int count = contacts ? c->numRows[BTOCL_ROWS_NORMAL] : 0;
         // With BTOCL_FLAG_ROTATE_POINTS the velocity iterations start the manifold's points at
@@ -204,8 +290,13 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
         const int start = (pass == BTOCL_PASS_NORMAL && (flags & BTOCL_FLAG_ROTATE_POINTS) && count > 1)
                               ? iteration % count
                               : 0;
+        const btoclShuffle points = btoclShuffleOf(random ? count : 0, btoclSeedOf(seed, BTOCL_ROWS_NORMAL));
+        // A point's friction rows, when they follow it: one or two (SOLVER_USE_2_FRICTION_DIRECTIONS).
+        const int frictionPerPoint =
+            interleave && pass == BTOCL_PASS_NORMAL && count > 0 ? c->numRows[BTOCL_ROWS_FRICTION] / count : 0;
         for (int k = 0; k < count; ++k) {
-            const int r = first + (start + k < count ? start + k : start + k - count);
+            const int point = random ? btoclShuffleAt(points, k) : (start + k < count ? start + k : start + k - count);
+            const int r = first + point;
             BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
             float delta;
             if (pass == BTOCL_PASS_WARMSTART) {
@@ -220,11 +311,30 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_
                 delta = btoclSolveRowImpulse(row, b->applied + r, &A, &B, 0.0f, BTOCL_FLT_MAX, 0);
             }
             if (track) maxResidual2 = fmax(maxResidual2, btoclResidual2(row, delta));
+            if (frictionPerPoint > 0)
+                maxResidual2 = fmax(maxResidual2, btoclSolveFrictionRows(
+                                                      b, c->firstRow[BTOCL_ROWS_FRICTION] + point * frictionPerPoint,
+                                                      frictionPerPoint, 0, 0u, 0, &A, &B, track));
         }
     }
     btoclStoreSolveBody(&A, b->deltas + c->bodyA, push);
     btoclStoreSolveBody(&B, b->deltas + c->bodyB, push);
     return maxResidual2;
+}
+
+// seed: the constraint's in this pass (btoclSeedOf), read with BTOCL_FLAG_RANDOM_ORDER: the
+// velocity passes then walk each kind of its rows in a shuffled order (SI shuffles its rows
+// likewise; its push iterations and the warm start keep their order, and so do these). Two copies
+// of the walk: the fixed order's has no reordering left in it (one copy for all orders made the
+// wide path's solve slower on PoCL).
+BTOCL_SOLVE_INLINE float btoclSolveConstraint(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c,
+                                              int pass, int flags, int iteration, int numIterations,
+                                              unsigned int seed) {
+    if (flags & (BTOCL_FLAG_RANDOM_ORDER | BTOCL_FLAG_INTERLEAVE_FRICTION))
+        return btoclSolveConstraintInOrder(b, c, pass, flags, iteration, numIterations, seed,
+                                           btoclShuffledRows(pass, flags),
+                                           (flags & BTOCL_FLAG_INTERLEAVE_FRICTION) != 0);
+    return btoclSolveConstraintInOrder(b, c, pass, flags, iteration, numIterations, 0u, 0, 0);
 }
 
 #endif

@@ -25,20 +25,55 @@
 // ... bundled at the kernel's entry.
 #define BTOCL_SOLVE_BUFFERS_OF_PARAMS {constraints, rows, normalOfRow, applied, pushApplied, bodies, deltas}
 
+// Batch k of group g, its constraints taken by `lanes` lanes from `lane` on, in a pass that
+// shuffles its rows (row_solve.h): one lane walks the constraints shuffled where the pass shuffles
+// them; several solve them side by side in any order (they share no dynamic body).
+// groupSeed: btoclSeedOf(passSeed, g.offset), the seed of the group's orders.
+inline float solveShuffledBatch(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int k, int lane,
+                                int lanes, int pass, int flags, int iteration, int numIterations,
+                                unsigned int groupSeed) {
+    const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
+    const int end = batchEnd[g.offset + k];
+    const unsigned int batchSeed = btoclSeedOf(groupSeed, k);
+    const int oneLaneShuffles = lanes == 1 && btoclShuffledConstraints(pass, flags);
+    float maxResidual2 = 0.0f;
+    for (int j = lane; j < end - begin; j += lanes) {
+        const int i = begin + btoclOrderAt(end - begin, oneLaneShuffles, batchSeed, j);
+        maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration,
+                                                               numIterations, btoclSeedOf(batchSeed, i)));
+    }
+    return maxResidual2;
+}
+
 // One group, one pass: batch after batch (a barrier between them, so the next batch reads what
-// this one wrote), the lanes of the work-group sharing a batch. Returns this lane's largest
+// this one wrote), the lanes of the work-group sharing a batch. Where the pass shuffles its rows,
+// the batches come in a shuffled order where it shuffles its constraints, and each batch as
+// solveShuffledBatch walks it: a loop of its own, so that the fixed order's stays as PoCL
+// compiled it (one loop for both made the wide path's solve slower). Returns this lane's largest
 // squared residual. Every lane must call it: it holds barriers.
 inline float solveCellGroup(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd, int pass, int flags,
-                            int iteration, int numIterations) {
+                            int iteration, int numIterations, unsigned int passSeed) {
     const int lane = get_local_id(0);
     const int lanes = get_local_size(0);
     float maxResidual2 = 0.0f;
+    if (btoclShuffledRows(pass, flags)) {  // uniform: every lane takes the same branch
+        const unsigned int groupSeed = btoclSeedOf(passSeed, g.offset);
+        const int shuffled = btoclShuffledConstraints(pass, flags);
+        for (int kk = 0; kk < g.numBatches; ++kk) {
+            maxResidual2 = fmax(maxResidual2, solveShuffledBatch(b, g, batchEnd,
+                                                                 btoclOrderAt(g.numBatches, shuffled, groupSeed, kk),
+                                                                 lane, lanes, pass, flags, iteration, numIterations,
+                                                                 groupSeed));
+            barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+        }
+        return maxResidual2;
+    }
     for (int k = 0; k < g.numBatches; ++k) {
         const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
         const int end = batchEnd[g.offset + k];
         for (int i = begin + lane; i < end; i += lanes)
             maxResidual2 = fmax(maxResidual2,
-                                btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations));
+                                btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations, 0u));
         barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     }
     return maxResidual2;
@@ -47,11 +82,11 @@ inline float solveCellGroup(const btoclSolveBuffers* b, btoclGroup g, __global c
 // One set, one pass: work-group g solves group groups[groupBase + g].
 inline void solveSet(const btoclSolveBuffers* b, __global const btoclGroup* groups, int groupBase,
                      __global const int* batchEnd, __global int* control, const int pass, int flags, int iteration,
-                     int numIterations) {
+                     int numIterations, unsigned int passSeed) {
     const int push = pass == BTOCL_PASS_PUSH;
     if (control[push ? BTOCL_CONTROL_PUSH_STOPPED : BTOCL_CONTROL_STOPPED]) return;  // uniform: converged
-    const float maxResidual2 =
-        solveCellGroup(b, groups[groupBase + get_group_id(0)], batchEnd, pass, flags, iteration, numIterations);
+    const float maxResidual2 = solveCellGroup(b, groups[groupBase + get_group_id(0)], batchEnd, pass, flags, iteration,
+                                              numIterations, passSeed);
     if ((flags & BTOCL_FLAG_TRACK_RESIDUAL) && maxResidual2 > 0.0f)
         // Non-negative floats order like their bit patterns: atomic_max is exact and order-free.
         atomic_max(control + (push ? BTOCL_CONTROL_PUSH_RESIDUAL : BTOCL_CONTROL_RESIDUAL), as_int(maxResidual2));
@@ -59,11 +94,12 @@ inline void solveSet(const btoclSolveBuffers* b, __global const btoclGroup* grou
 
 // One kernel per pass, so that the compiler folds the pass's branches away. iteration: the
 // iteration of this pass, of which contact rows take part in the first numIterations (joints
-// with a larger override count go on; kernels/row_solve.h).
-#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                 \
-    __kernel void name(BTOCL_SOLVE_KERNEL_BUFFERS, int groupBase, int flags, int iteration, int numIterations) { \
-        const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;                                         \
-        solveSet(&b, groups, groupBase, batchEnd, control, PASS, flags, iteration, numIterations);        \
+// with a larger override count go on; kernels/row_solve.h). passSeed: btoclPassSeed's.
+#define BTOCL_SOLVE_SET_KERNEL(name, PASS)                                                                  \
+    __kernel void name(BTOCL_SOLVE_KERNEL_BUFFERS, int groupBase, int flags, int iteration, int numIterations, \
+                       uint passSeed) {                                                                     \
+        const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;                                          \
+        solveSet(&b, groups, groupBase, batchEnd, control, PASS, flags, iteration, numIterations, passSeed); \
     }
 BTOCL_SOLVE_SET_KERNEL(applyWarmStart, BTOCL_PASS_WARMSTART)
 BTOCL_SOLVE_SET_KERNEL(solvePushRows, BTOCL_PASS_PUSH)
@@ -83,10 +119,12 @@ __kernel void endIteration(__global int* control, float threshold, int push) {
 
 // Every group of one pass, in order (one work-group); returns this lane's largest squared residual.
 inline float solveAllGroups(const btoclSolveBuffers* b, __global const btoclGroup* groups, int numGroups,
-                            __global const int* batchEnd, int pass, int flags, int iteration, int numIterations) {
+                            __global const int* batchEnd, int pass, int flags, int iteration, int numIterations,
+                            unsigned int passSeed) {
     float maxResidual2 = 0.0f;
     for (int g = 0; g < numGroups; ++g)
-        maxResidual2 = fmax(maxResidual2, solveCellGroup(b, groups[g], batchEnd, pass, flags, iteration, numIterations));
+        maxResidual2 = fmax(maxResidual2,
+                            solveCellGroup(b, groups[g], batchEnd, pass, flags, iteration, numIterations, passSeed));
     return maxResidual2;
 }
 
@@ -123,7 +161,9 @@ __kernel void solveWholeStep(BTOCL_SOLVE_KERNEL_BUFFERS, int numGroups, int flag
     float residual2 = 0.0f;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep p = btoclPassAt(schedule, i);
-#define BTOCL_SOLVE_ALL(PASS) solveAllGroups(&b, groups, numGroups, batchEnd, PASS, flags, p.iteration, schedule.numIterations)
+        const unsigned int passSeed = btoclPassSeed(schedule, i);
+#define BTOCL_SOLVE_ALL(PASS) \
+    solveAllGroups(&b, groups, numGroups, batchEnd, PASS, flags, p.iteration, schedule.numIterations, passSeed)
         residual2 = fmax(residual2, BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_ALL));
 #undef BTOCL_SOLVE_ALL
         if (!p.endsIteration) continue;
@@ -142,10 +182,21 @@ __kernel void solveWholeStep(BTOCL_SOLVE_KERNEL_BUFFERS, int numGroups, int flag
 // for them (4 ahead measured best; docs/performance.md).
 #define BTOCL_PREFETCH_AHEAD (BTOCL_PREFETCHES ? 4 : 0)
 
-// One group, one pass, one lane: its batches one after another are its constraints in order.
-BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btoclGroup g, int pass, int flags,
-                                               int iteration, int numIterations) {
+// One group, one pass, one lane: its batches one after another are its constraints in order
+// (where the pass shuffles anything, in the orders solveCellGroup walks with one lane).
+BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btoclGroup g, __global const int* batchEnd,
+                                               int pass, int flags, int iteration, int numIterations,
+                                               unsigned int passSeed) {
     float maxResidual2 = 0.0f;
+    if (btoclShuffledRows(pass, flags)) {
+        const unsigned int groupSeed = btoclSeedOf(passSeed, g.offset);
+        const int shuffled = btoclShuffledConstraints(pass, flags);
+        for (int kk = 0; kk < g.numBatches; ++kk)
+            maxResidual2 = fmax(maxResidual2, solveShuffledBatch(b, g, batchEnd,
+                                                                 btoclOrderAt(g.numBatches, shuffled, groupSeed, kk), 0,
+                                                                 1, pass, flags, iteration, numIterations, groupSeed));
+        return maxResidual2;
+    }
     for (int i = g.offset; i < g.offset + g.count; ++i) {
         if (BTOCL_PREFETCH_AHEAD > 0 && i + BTOCL_PREFETCH_AHEAD < g.offset + g.count) {
             const btoclConstraint ahead = b->constraints[i + BTOCL_PREFETCH_AHEAD];
@@ -154,7 +205,8 @@ BTOCL_SOLVE_INLINE float solveCellGroupOneLane(const btoclSolveBuffers* b, btocl
             BTOCL_PREFETCH(b->bodies + ahead.bodyB);
             BTOCL_PREFETCH(b->deltas + ahead.bodyB);
         }
-        maxResidual2 = fmax(maxResidual2, btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations));
+        maxResidual2 =
+            fmax(maxResidual2, btoclSolveConstraint(b, b->constraints + i, pass, flags, iteration, numIterations, 0u));
     }
     return maxResidual2;
 }
@@ -210,6 +262,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     int finishedHere = 0, iterationsRun = schedule.maxIterations;
     for (int passIndex = 0; passIndex < numPasses; ++passIndex) {
         const btoclPassStep p = btoclPassAt(schedule, passIndex);
+        const unsigned int passSeed = btoclPassSeed(schedule, passIndex);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = setStart[set], count = setStart[set + 1] - first;
             if (count == 0) continue;
@@ -232,7 +285,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                     for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
                         if (solve) {
                             const btoclGroup g = groups[group];
-#define BTOCL_SOLVE_CLAIMED(PASS) solveCellGroupOneLane(&b, g, PASS, flags, p.iteration, schedule.numIterations)
+#define BTOCL_SOLVE_CLAIMED(PASS) \
+    solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, passSeed)
                             const float groupResidual2 = BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_CLAIMED);
 #undef BTOCL_SOLVE_CLAIMED
                             // Before the group counts as finished: whoever sees it finished sees this.

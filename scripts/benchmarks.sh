@@ -10,9 +10,9 @@
 # --quality runs scenes that come to rest (a pyramid with a base of 20, the default wall, a
 # small dense block of 216 boxes face to face, a pile of 1,000 dropped boxes) for 600 steps (10 s)
 # and prints, for SI, SI with its order randomized (SOLVER_RANDMIZE_ORDER), ours as it ships
-# (SI's fixed order) and ours with rotatePoints: the largest drift (from the start for scenes that start
-# at rest, else from step 450), the resting kinetic energy (mean of the last 150 steps), the
-# deepest penetration and whether the stacks stand. RUN, "scene size" each, replaces the scenes.
+# (SI's fixed order), ours with SOLVER_RANDMIZE_ORDER and ours with rotatePoints: the largest
+# drift (from the start for scenes that start at rest, else from step 450), the resting kinetic
+# energy (mean of the last 150 steps), the deepest penetration and whether the stacks stand. RUN, "scene size" each, replaces the scenes.
 # The JSON files stay in build/quality/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,9 +35,12 @@ if [[ "$mode" == quality ]]; then
   for run in "${runs[@]}"; do
     read -r scene size <<<"$run"
     echo "== $scene (size $size, 600 steps)" >&2
-    # SI, SI randomized and ours (as shipped) side by side; then ours with rotatePoints alone.
+    # SI, SI randomized and ours (as shipped) side by side; then ours randomized, and ours with
+    # rotatePoints, each alone.
     "$bench" --scene "$scene" --size "$size" --steps 600 --with-si-randomized --order fixed \
       --json "build/quality/$scene-$size.json" >/dev/null
+    "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order randomized \
+      --json "build/quality/$scene-$size-randomized.json" >/dev/null
     "$bench" --scene "$scene" --size "$size" --steps 600 --solver ocl --order rotated \
       --json "build/quality/$scene-$size-rotated.json" >/dev/null
     names+=("$scene-$size")
@@ -51,9 +54,10 @@ def yn(v):
     return "-" if v is None else ("yes" if v else "no")
 for name in names:
     both = json.load(open(os.path.join(folder, name + ".json")))
+    randomized = json.load(open(os.path.join(folder, name + "-randomized.json")))
     rotated = json.load(open(os.path.join(folder, name + "-rotated.json")))
-    sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]),
-             ("ours", both["ours"]), ("ours, rotatePoints", rotated["ours"])]
+    sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]), ("ours", both["ours"]),
+             ("ours randomized", randomized["ours"]), ("ours, rotatePoints", rotated["ours"])]
     label = "%s %d" % (both["scene"], both["size"])
     for solver, side in sides:
         q = side["quality"]

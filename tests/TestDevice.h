@@ -1,8 +1,9 @@
 // The solve path the tests exercise, as the solver reads it from BT_OPENCL_SOLVE_PATH ("serial"
-// unless it says "wide"): CI runs the suite once per path, so device-level tests follow it too.
+// unless it says "wide", in any case): CI runs the suite once per path, so device-level tests follow it too.
 #pragma once
 
 #include "DevicePrimitives.h"
+#include "OclRuntime.h"
 #include "StepPlan.h"
 
 #include <cstdlib>
@@ -12,7 +13,7 @@ namespace btocl::test {
 
 inline bool testsRunWide() {
     const char* path = std::getenv("BT_OPENCL_SOLVE_PATH");
-    return path && std::string(path) == "wide";
+    return path && lowerCase(path) == "wide";
 }
 // The wide path on a CPU device takes Boost.Compute's sort and scan (which a GPU may get); the
 // serial path our chunked kernels.

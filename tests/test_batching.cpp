@@ -40,7 +40,7 @@ Fixture& fixture() {
 }
 
 // The layout reads no pass of a plan.
-constexpr btoclPassSchedule kNoPasses{0, 0, 0, 0};
+constexpr btoclPassSchedule kNoPasses{0, 0, 0, 0, 0};
 
 // The wide path's layout: the global split, each group in local batches.
 StepPlan splitInBatches(const SplitParams& params) { return StepPlan::perSet(GroupLanes::wide(params.workGroupSize), kNoPasses); }

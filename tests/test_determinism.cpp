@@ -23,6 +23,13 @@ std::vector<btTransform> runPile(int boxes, int steps, const btOpenCLSolverConfi
     return out;
 }
 
+// A config with the default whole-step threshold, and one that splits every step.
+std::vector<btOpenCLSolverConfig> wholeAndSplit() {
+    btOpenCLSolverConfig split;
+    split.wholeStepMaxRows = 0;
+    return {btOpenCLSolverConfig{}, split};
+}
+
 size_t differingBodies(const std::vector<btTransform>& a, const std::vector<btTransform>& b) {
     size_t differing = 0;
     for (size_t i = 0; i < a.size(); ++i)
@@ -81,9 +88,7 @@ TEST_CASE("a pile ends bitwise the same when the step's arrays are copied from p
           "[determinism]") {
     // BT_OPENCL_TRANSFERS=copy: PoCL copies to and from the device as a GPU does, and the solver
     // puts the step's host arrays in pinned memory (PinnedHostMemory). Whole and split steps.
-    btOpenCLSolverConfig split;
-    split.wholeStepMaxRows = 0;
-    for (const btOpenCLSolverConfig& config : {btOpenCLSolverConfig{}, split}) {
+    for (const btOpenCLSolverConfig& config : wholeAndSplit()) {
         INFO("wholeStepMaxRows " << config.wholeStepMaxRows);
         const std::vector<btTransform> inPlace = runPile(300, 30, config);
         std::vector<btTransform> copied;
@@ -96,4 +101,31 @@ TEST_CASE("a pile ends bitwise the same when the step's arrays are copied from p
     }
     const ScopedEnv bad("BT_OPENCL_TRANSFERS", "dma");
     CHECK_THROWS_WITH(btOpenCLConstraintSolver(), Catch::Contains("BT_OPENCL_TRANSFERS is 'dma'"));
+}
+
+TEST_CASE("with SOLVER_RANDMIZE_ORDER two runs end bitwise equal, and reset() starts the orders again",
+          "[determinism][modes]") {
+    // The shuffled orders come from the steps run since the solver was made or reset (as SI's
+    // random sequence restarts at its reset()), never from the device's scheduling. Whole and
+    // split steps.
+    for (const btOpenCLSolverConfig& config : wholeAndSplit()) {
+        INFO("wholeStepMaxRows " << config.wholeStepMaxRows);
+        auto run = [&config](bool randomized, int resetBefore) {
+            World w(SolverKind::OpenCL, config);
+            groundAndPile(w, 300);
+            if (randomized) w.info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
+            for (int s = 0; s < 30; ++s) {
+                if (s == resetBefore) w.openCL()->reset();
+                w.step();
+            }
+            std::vector<btTransform> out;
+            for (const btRigidBody* b : w.bodies()) out.push_back(b->getWorldTransform());
+            return out;
+        };
+        const std::vector<btTransform> randomized = run(true, -1);
+        CHECK(differingBodies(randomized, run(true, -1)) == 0);
+        CHECK(differingBodies(randomized, run(false, -1)) > 0);
+        CHECK(differingBodies(randomized, run(true, 15)) > 0);  // steps 15 on take steps 0 on's orders
+        CHECK(differingBodies(run(false, -1), run(false, 15)) == 0);  // the fixed order has none to restart
+    }
 }

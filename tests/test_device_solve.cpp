@@ -51,18 +51,23 @@ TEST_CASE("device solve matches the serial host reference on a gathered pile", "
     World w(SolverKind::Reference);
     groundAndPile(w, 64);
     btContactSolverInfo info = w.stepInfo();
-    auto mode = GENERATE(0, 1, 2);
+    auto mode = GENERATE(0, 1, 2, 3, 4, 5);
     const bool rotate = GENERATE(false, true);
     const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
     CAPTURE(mode, rotate, int(launch));
     if (launch == StepMode::Claimed && testsRunWide()) return;  // one lane a group: the serial path's
     if (mode == 1) info.m_splitImpulse = 1;
     if (mode == 2) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    if (mode == 3) info.m_solverMode |= SOLVER_RANDMIZE_ORDER;
+    if (mode == 4) info.m_solverMode |= SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS;
+    if (mode == 5)
+        info.m_solverMode |= SOLVER_RANDMIZE_ORDER | SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS |
+                             SOLVER_USE_2_FRICTION_DIRECTIONS;
     StepProblem host = gatherPileProblem(w, info);
     REQUIRE(host.numContactPoints() > 100);
     StepProblem dev = host;
     const BatchLayout layout = buildSerialLayout(int(host.constraints.size()));
-    const SolveSettings settings = solveSettingsOf(info, rotate);
+    const SolveSettings settings = solveSettingsOf(info, rotate, 7);
 
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, launch);
@@ -151,7 +156,10 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     constraints.write(rt, host.constraints);
     SplitParams params;
     params.cellSize = 4.0f;  // cells of a few boxes: many groups in every set, some long
-    const SolveSettings settings = solveSettingsOf(info, true);
+    const bool randomized = GENERATE(false, true);
+    CAPTURE(randomized);
+    if (randomized) info.m_solverMode |= SOLVER_RANDMIZE_ORDER;
+    const SolveSettings settings = solveSettingsOf(info, true, 3);
     batcher.build(constraints, int(host.constraints.size()), host.splitBodies, params,
                   testPlan(StepMode::PerSet, passScheduleOf(settings, host)));
     const BatchLayout layout = batcher.download();

@@ -3,6 +3,7 @@
 // this process, once with every loop on the calling thread and once with every loop in
 // parallel (the threshold lowered to one item), and the two worlds are compared field by field.
 #include "HostParallel.h"
+#include "ParallelFrom.h"
 #include "Scenes.h"
 #include "WorldSnapshot.h"
 #include "btOpenCLConstraintSolver.h"
@@ -20,14 +21,9 @@
 #include <vector>
 
 using namespace testworld;
+using btocl::test::ParallelFrom;
 
 namespace {
-
-// Runs with every host loop parallel from `minItems` items on; puts the threshold back after.
-struct ParallelFrom {
-    explicit ParallelFrom(size_t minItems) { btocl::minParallelItems() = minItems; }
-    ~ParallelFrom() { btocl::minParallelItems() = btocl::kMinParallelItems; }
-};
 
 // A pile of 300 boxes (about 1,000 manifolds at rest) for 90 steps, with two friction
 // directions, rolling friction, and split impulse, which each take a branch of the gather.

@@ -47,6 +47,52 @@ void requireRefused(SettledPile& p, const btContactSolverInfo& info, const std::
     CHECK(before.differenceFrom(WorldSnapshot::of(p.w.dyn())) == "");
 }
 
+// Solves the world's objects and `joint` with the world's solver alone (a world's step changes
+// velocities before its solver runs): the step must be refused with a btOpenCLSolverError
+// holding every one of `pieces`, and the world left byte for byte as it was.
+void requireJointRefused(World& w, btTypedConstraint* joint, const std::vector<std::string>& pieces) {
+    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+    btTypedConstraint* joints[] = {joint};
+    const WorldSnapshot before = WorldSnapshot::of(w.dyn());
+    std::string message;
+    try {
+        w.dyn().getConstraintSolver()->solveGroup(&objects[0], objects.size(), nullptr, 0, joints, 1,
+                                                  w.dyn().getSolverInfo(), nullptr, nullptr);
+    } catch (const btOpenCLSolverError& e) {
+        message = e.what();
+    }
+    INFO("message: " << message);
+    REQUIRE_FALSE(message.empty());
+    for (const std::string& piece : pieces) CHECK(message.find(piece) != std::string::npos);
+    CHECK(before.differenceFrom(WorldSnapshot::of(w.dyn())) == "");
+}
+
+// Runs `check` on a world of our solver (validating) with a ground, with and without
+// fallbackToBullet: bad input is refused either way.
+void withAndWithoutFallback(const std::function<void(World&)>& check) {
+    for (const bool fallback : {false, true}) {
+        INFO("fallbackToBullet " << fallback);
+        btOpenCLSolverConfig config = validatingConfig();
+        config.fallbackToBullet = fallback;
+        World w(SolverKind::OpenCL, config);
+        w.addGround();
+        check(w);
+    }
+}
+
+// A joint whose getInfo1 asks for a negative number of rows.
+class NegativeRowsJoint : public btTypedConstraint {
+public:
+    NegativeRowsJoint(btRigidBody& a, btRigidBody& b) : btTypedConstraint(POINT2POINT_CONSTRAINT_TYPE, a, b) {}
+    void getInfo1(btConstraintInfo1* info) override {
+        info->m_numConstraintRows = -3;
+        info->nub = 9;
+    }
+    void getInfo2(btConstraintInfo2*) override {}
+    void setParam(int, btScalar, int) override {}
+    btScalar getParam(int, int) const override { return 0; }
+};
+
 std::string bodyAt(const btCollisionObject* o) { return "at index " + std::to_string(o->getWorldArrayIndex()) + " of"; }
 std::string pointOf(const btPersistentManifold* m) {
     return "between the objects at indices " + std::to_string(m->getBody0()->getWorldArrayIndex()) + " and " +
@@ -93,6 +139,29 @@ TEST_CASE("a non-finite field of a body is refused, naming the body by its world
     // All restored: the step is solved.
     p.solve(p.w.stepInfo());
     CHECK(our.solver.getLastStats().numContactPoints > 0);
+}
+
+TEST_CASE("a negative mass or inertia is refused, naming the body, with or without the fallback", "[errors][input]") {
+    // Bullet's solver takes either without a word and throws the body and its neighbours about.
+    for (const bool fallback : {false, true}) {
+        INFO("fallbackToBullet " << fallback);
+        btOpenCLSolverConfig config = validatingConfig();
+        config.fallbackToBullet = fallback;
+        btOpenCLConstraintSolver solver(config);
+        SettledPile p(solver);
+        btRigidBody& b = *p.top;
+        const btVector3 inertia(btScalar(1) / 6, btScalar(1) / 6, btScalar(1) / 6);
+        b.setMassProps(-1, inertia);
+        requireRefused(p, p.w.stepInfo(), {"negative inverse mass", bodyAt(&b)});
+        b.setMassProps(1, btVector3(inertia.x(), -inertia.y(), inertia.z()));
+        b.updateInertiaTensor();
+        requireRefused(p, p.w.stepInfo(), {"negative local inverse inertia", bodyAt(&b)});
+        b.setMassProps(1, inertia);
+        b.updateInertiaTensor();
+        p.solve(p.w.stepInfo());
+        CHECK(solver.getLastStats().numContactPoints > 0);
+        CHECK(solver.getLastStats().numFallbackSteps == 0);
+    }
 }
 
 TEST_CASE("a non-finite field of a contact point is refused, naming the two objects of its manifold", "[errors][input]") {
@@ -334,12 +403,7 @@ TEST_CASE("a disabled joint is skipped, as Bullet's solver skips it", "[input][j
 }
 
 TEST_CASE("a joint with a non-finite pivot is refused, naming the joint, with or without the fallback", "[errors][input][joints]") {
-    for (const bool fallback : {false, true}) {
-        INFO("fallbackToBullet " << fallback);
-        btOpenCLSolverConfig config = validatingConfig();
-        config.fallbackToBullet = fallback;
-        World w(SolverKind::OpenCL, config);
-        w.addGround();
+    withAndWithoutFallback([](World& w) {
         btRigidBody* a = w.addUnitBox(btVector3(0, 2, 0));
         btRigidBody* b = w.addUnitBox(btVector3(3, 2, 0));
         btPoint2PointConstraint* joint = w.addConstraint(std::make_unique<btPoint2PointConstraint>(
@@ -347,15 +411,53 @@ TEST_CASE("a joint with a non-finite pivot is refused, naming the joint, with or
         for (int s = 0; s < 5; ++s) w.step();
         joint->setPivotA(btVector3(kNaN, 0, 0));
         CHECK_THROWS_WITH(w.step(), Catch::Contains("joint 0") && Catch::Contains("non-finite"));
-        // The solver alone (a world's step changes velocities before it): nothing written.
-        btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
-        btTypedConstraint* joints[] = {joint};
-        const WorldSnapshot before = WorldSnapshot::of(w.dyn());
-        CHECK_THROWS_AS(w.dyn().getConstraintSolver()->solveGroup(&objects[0], objects.size(), nullptr, 0, joints, 1,
-                                                                  w.dyn().getSolverInfo(), nullptr, nullptr),
-                        btOpenCLSolverError);
-        CHECK(before.differenceFrom(WorldSnapshot::of(w.dyn())) == "");
-    }
+        requireJointRefused(w, joint, {"joint 0", "non-finite"});
+    });
+}
+
+TEST_CASE("a joint between a body and itself is refused, naming the joint and the body", "[errors][input][joints]") {
+    // Unrefused, the solve kept one side's change of the two and flung the body (about 60 m/s a
+    // step); Bullet's solver adds both sides' changes. Such a joint means nothing: an error.
+    withAndWithoutFallback([](World& w) {
+        w.addUnitBox(btVector3(3, btScalar(0.5), 0));
+        btRigidBody* box = w.addUnitBox(btVector3(0, btScalar(0.5), 0));
+        const btVector3 pivot(btScalar(0.5), btScalar(0.5), 0);
+        btPoint2PointConstraint* joint =
+            w.addConstraint(std::make_unique<btPoint2PointConstraint>(*box, *box, pivot, pivot));
+        const std::string itself = "joins the rigid body at index " + std::to_string(box->getWorldArrayIndex()) +
+                                   " of the world to itself";
+        CHECK_THROWS_WITH(w.step(), Catch::Contains("joint 0 of the step") && Catch::Contains(itself));
+        requireJointRefused(w, joint, {"joint 0 of the step", itself});
+        CHECK(w.openCL()->getLastStats().numFallbackSteps == 0);
+    });
+}
+
+TEST_CASE("a manifold between a body and itself is refused, naming the body", "[errors][input]") {
+    OurPile our;
+    SettledPile& p = our.pile;
+    btPersistentManifold* self = p.w.dispatcher().getNewManifold(p.top, p.top);
+    btManifoldPoint point(btVector3(0, btScalar(-0.5), 0), btVector3(0, btScalar(0.5), 0), btVector3(0, 1, 0),
+                          btScalar(-0.01));
+    point.m_positionWorldOnA = p.top->getWorldTransform() * point.m_localPointA;
+    point.m_positionWorldOnB = p.top->getWorldTransform() * point.m_localPointB;
+    self->addManifoldPoint(point);
+    p.manifolds.push_back(self);
+    requireRefused(p, p.w.stepInfo(),
+                   {"manifold between the object " + bodyAt(p.top) + " the world and itself"});
+    p.manifolds.pop_back();
+    p.w.dispatcher().releaseManifold(self);
+    p.solve();
+    CHECK(our.solver.getLastStats().numContactPoints > 0);
+}
+
+TEST_CASE("a joint that asks for a negative number of rows is refused, naming the joint", "[errors][input][joints]") {
+    World w(SolverKind::OpenCL);
+    w.addGround();
+    btRigidBody* a = w.addUnitBox(btVector3(0, btScalar(0.5), 0));
+    btRigidBody* b = w.addUnitBox(btVector3(3, btScalar(0.5), 0));
+    NegativeRowsJoint* joint = w.addConstraint(std::make_unique<NegativeRowsJoint>(*a, *b));
+    requireJointRefused(w, joint, {"joint 0 of the step", "asks for -3 rows"});
+    CHECK_THROWS_AS(w.step(), btOpenCLSolverError);
 }
 
 TEST_CASE("a device name that matches nothing is reported with where it came from", "[errors][device]") {

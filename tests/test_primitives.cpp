@@ -194,3 +194,16 @@ TEST_CASE("timeBackends keeps the backend that did the split's work faster, meas
     OclRuntime other{""};
     CHECK(DevicePrimitives::timeBackends(other).msChunked == first.msChunked);
 }
+
+TEST_CASE("Boost.Compute's cached programs let a context go with the last DevicePrimitives on it", "[primitives]") {
+    // Its process-wide program cache kept every context it had built for (up to eight), and
+    // with it the context's memory, long after the solver was gone.
+    OclRuntime rt{""};
+    const auto references = [&] { return rt.context().getInfo<CL_CONTEXT_REFERENCE_COUNT>(); };
+    const cl_uint before = references();
+    {
+        DevicePrimitives first(rt, Backend::BoostCompute);
+        DevicePrimitives second(rt, Backend::BoostCompute);
+    }
+    CHECK(references() == before);
+}

@@ -45,8 +45,9 @@ inline bool hasAnisotropicFriction(const btCollisionObject* o) {
 }
 
 // What the iterations read of a btContactSolverInfo. rotatePoints: each iteration starts a
-// manifold's points at another one (btOpenCLSolverConfig).
-inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints) {
+// manifold's points at another one (btOpenCLSolverConfig). orderSeed: the step's seed of its
+// shuffled orders with SOLVER_RANDMIZE_ORDER.
+inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotatePoints, unsigned orderSeed = 0) {
     SolveSettings s;
     s.numIterations = info.m_numIterations;
     s.residualThreshold = info.m_leastSquaresResidualThreshold;
@@ -56,6 +57,9 @@ inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotat
     if (!(info.m_solverMode & SOLVER_SIMD)) s.flags |= BTOCL_FLAG_APPLY_FACTORS;
     if (s.residualThreshold > 0) s.flags |= BTOCL_FLAG_TRACK_RESIDUAL;
     if (rotatePoints) s.flags |= BTOCL_FLAG_ROTATE_POINTS;
+    if (info.m_solverMode & SOLVER_RANDMIZE_ORDER) s.flags |= BTOCL_FLAG_RANDOM_ORDER;
+    if (info.m_solverMode & SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) s.flags |= BTOCL_FLAG_INTERLEAVE_FRICTION;
+    s.orderSeed = orderSeed;
     return s;
 }
 
@@ -76,6 +80,21 @@ inline btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPo
     prm.solverMode = info.m_solverMode;
     prm.numPoints = numPoints;
     return prm;
+}
+
+// Whether two btContactSolverInfo agree in every setting a step reads: solveSettingsOf's and
+// setupParamsOf's, the joints' (m_erp, m_damping, m_globalCfm, m_numIterations, m_timeStep), the
+// gather's gyroscopic limit and the write-back's turn. A setting read anywhere else belongs here
+// too: solveGroup calls of one step are gathered into one solve only while this holds.
+inline bool sameStepSettings(const btContactSolverInfo& a, const btContactSolverInfo& b) {
+    return a.m_timeStep == b.m_timeStep && a.m_numIterations == b.m_numIterations && a.m_solverMode == b.m_solverMode &&
+           a.m_leastSquaresResidualThreshold == b.m_leastSquaresResidualThreshold && a.m_sor == b.m_sor &&
+           a.m_globalCfm == b.m_globalCfm && a.m_erp2 == b.m_erp2 && a.m_erp == b.m_erp && a.m_damping == b.m_damping &&
+           a.m_linearSlop == b.m_linearSlop && a.m_restitutionVelocityThreshold == b.m_restitutionVelocityThreshold &&
+           a.m_warmstartingFactor == b.m_warmstartingFactor && a.m_frictionERP == b.m_frictionERP &&
+           a.m_splitImpulse == b.m_splitImpulse &&
+           a.m_splitImpulsePenetrationThreshold == b.m_splitImpulsePenetrationThreshold &&
+           a.m_splitImpulseTurnErp == b.m_splitImpulseTurnErp && a.m_maxGyroscopicForce == b.m_maxGyroscopicForce;
 }
 
 }  // namespace btocl

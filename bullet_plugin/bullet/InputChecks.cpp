@@ -163,9 +163,22 @@ void checkRigidBody(const btRigidBody& body) {
     if (const char* field = firstNonFinite(body, BodyFields{}))
         fail("non-finite input: the rigid body at index " + worldIndexOf(&body) + " of the world has a non-finite " +
              field);
+    // A negative mass or inertia (setMassProps takes one without a word) makes every impulse push
+    // the wrong way: Bullet's solver, too, blows such a body and its neighbours up.
+    const btVector3& inertia = body.getInvInertiaDiagLocal();
+    const char* negative = body.getInvMass() < 0                                     ? "inverse mass (its mass)"
+                           : inertia.x() < 0 || inertia.y() < 0 || inertia.z() < 0 ? "local inverse inertia (its inertia)"
+                                                                                    : nullptr;
+    if (negative)
+        fail("the rigid body at index " + worldIndexOf(&body) + " of the world has a negative " + negative +
+             "; a body's mass and inertia must not be negative");
 }
 
 void checkManifold(const btPersistentManifold& manifold, const btContactSolverInfo& info, bool anisotropic) {
+    // As a joint of a body with itself (JointRows.cpp): one side's change would be lost.
+    if (manifold.getBody0() == manifold.getBody1())
+        fail("a contact manifold between the object at index " + worldIndexOf(manifold.getBody0()) +
+             " of the world and itself has points to solve; a contact needs two objects");
     const PointFields fields{info.m_solverMode};
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {

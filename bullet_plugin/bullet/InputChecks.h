@@ -33,10 +33,12 @@ void checkSolveGroupArguments(btCollisionObject* const* bodies, int numBodies, b
 void checkSolverInfo(const btContactSolverInfo& info);
 
 // A dynamic or kinematic body as the gather reads it: transform (origin and basis), velocities,
-// force and torque, inverse mass, inverse inertia (local and world), linear and angular factors.
+// force and torque, inverse mass, inverse inertia (local and world), linear and angular factors,
+// all finite; inverse mass and local inverse inertia not negative.
 void checkRigidBody(const btRigidBody& body);
 
-// The points of a manifold that the step solves (distance within the processing threshold):
+// A manifold the step solves: not between an object and itself. Its points that the step solves
+// (distance within the processing threshold):
 // positions, normal, distance, combined friction, restitution, rolling and spinning friction;
 // the warm-start impulse with warm starting; contact CFM, ERP, stiffness and damping where the
 // point's flags say they are used; cached friction directions, motions and CFM where they are

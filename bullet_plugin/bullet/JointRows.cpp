@@ -132,6 +132,12 @@ btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool 
     return (lo + hi) * btScalar(0.5);  // per axis: middle of the overlap, or of the gap
 }
 
+// How an error names a joint: its index among the step's joints and its type.
+std::string jointName(size_t index, const btTypedConstraint& joint) {
+    return "joint " + std::to_string(index) + " of the step (type " + std::to_string(int(joint.getConstraintType())) +
+           ")";
+}
+
 }  // namespace
 
 // Row counts first (in parallel, then their running sum), then every joint's rows (in parallel),
@@ -145,6 +151,14 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
     // Each joint's calls change only its own state, as with getInfo2 below.
     parallelFor(size_t(std::max(0, numJoints)), [&](size_t i) {
         btTypedConstraint* c = joints[i];
+        // The solve reads and writes a constraint's two bodies apart: one body on both sides
+        // would keep only one side's change. Bullet's solver adds both; between a body and itself
+        // a joint means nothing, and is refused as the caller's mistake.
+        if (c->isEnabled() && bodies[i].bodyA == bodies[i].bodyB &&
+            BTOCL_BODY_IS_DYNAMIC(solverBodies[size_t(bodies[i].bodyA)]) != 0.0f)
+            throw InputError("btOpenCLConstraintSolver: " + jointName(i, *c) + " joins the rigid body at index " +
+                             std::to_string(c->getRigidBodyA().getWorldArrayIndex()) +
+                             " of the world to itself; a joint needs two bodies");
         c->buildJacobian();
         StepJoint& j = set.joints[i];
         j.constraint = c;
@@ -157,6 +171,9 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
         if (c->isEnabled()) {
             btTypedConstraint::btConstraintInfo1 info1;
             c->getInfo1(&info1);
+            if (info1.m_numConstraintRows < 0)
+                throw InputError("btOpenCLConstraintSolver: " + jointName(i, *c) + " asks for " +
+                                 std::to_string(info1.m_numConstraintRows) + " rows (getInfo1); a row count must not be negative");
             j.numRows = info1.m_numConstraintRows;
         }
     }, kJointWeight);
@@ -182,14 +199,13 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
             btoclRow r = btoclJointRow(rowFromJoint(scratch[k], j.bodyA, j.bodyB), &A, &B, damping,
                                        j.breakingImpulseThreshold);
             if (!isFiniteRow(r))
-                throw InputError("btOpenCLConstraintSolver: joint " + std::to_string(i) +
-                                 " of the step has a non-finite row (its frames, limits or bodies)");
+                throw InputError("btOpenCLConstraintSolver: " + jointName(i, c) +
+                                 " has a non-finite row (its frames, limits or bodies)");
             BTOCL_ROW_ITERATIONS(r) = j.numIterations;
             // The solve keeps one linear Jacobian per row (btoclSolveRow): refuse a joint it would misread.
             if (!btoclRowFitsSolveRecord(r, BTOCL_BODY_IS_DYNAMIC(A) != 0.0f, BTOCL_BODY_IS_DYNAMIC(B) != 0.0f))
-                throw btOpenCLSolverError("btOpenCLConstraintSolver: joint " + std::to_string(i) + " of the step (type " +
-                                          std::to_string(int(c.getConstraintType())) +
-                                          ") has a row whose linear Jacobians on its two bodies are not opposite; "
+                throw btOpenCLSolverError("btOpenCLConstraintSolver: " + jointName(i, c) +
+                                          " has a row whose linear Jacobians on its two bodies are not opposite; "
                                           "the solver holds them as one");
             set.rows[size_t(j.firstRow + k)] = r;
         }

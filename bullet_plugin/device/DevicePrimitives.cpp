@@ -9,6 +9,7 @@
 #include <boost/compute/container/vector.hpp>
 #include <boost/compute/context.hpp>
 #include <boost/compute/iterator/buffer_iterator.hpp>
+#include <boost/compute/utility/program_cache.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -21,12 +22,51 @@
 namespace btocl {
 namespace bc = boost::compute;
 
+namespace {
+
+// Boost.Compute keeps its programs in a process-wide cache (program_cache::get_global_cache, and
+// the tuning parameters' parameter_cache) that has no lock unless BOOST_COMPUTE_THREAD_SAFE is
+// defined, and then one cache per thread, which would build a solver's programs again in every
+// thread that steps it. So every call into Boost.Compute here holds this one lock instead. The
+// cache also keeps a context's programs, and through them the context, after its last user is
+// gone: the last Boost of a context clears them (`users`).
+struct BoostComputeShared {
+    std::mutex mutex;
+    std::map<cl_context, int> users;
+};
+BoostComputeShared& boostComputeShared() {
+    // Never destroyed: a DevicePrimitives that outlives main (a static solver) still takes the lock.
+    static BoostComputeShared* shared = new BoostComputeShared;
+    return *shared;
+}
+
+}  // namespace
+
 // The runtime's context and queue seen through Boost.Compute (both retained: Boost.Compute's
-// wrappers release what they hold).
+// wrappers release what they hold). Hold lock() around every Boost.Compute call.
 struct DevicePrimitives::Boost {
-    explicit Boost(const OclRuntime& rt) : context(rt.context()(), true), queue(rt.queue()(), true) {}
+    explicit Boost(const OclRuntime& rt) : context(rt.context()(), true), queue(rt.queue()(), true) {
+        const std::lock_guard<std::mutex> guard(lock());
+        programs = bc::program_cache::get_global_cache(context);
+        ++boostComputeShared().users[context.get()];
+    }
+    ~Boost() {
+        const std::lock_guard<std::mutex> guard(lock());
+        auto& users = boostComputeShared().users;
+        const auto it = users.find(context.get());
+        if (--it->second > 0) return;
+        users.erase(it);
+        programs->clear();
+    }
+    static std::mutex& lock() { return boostComputeShared().mutex; }
     bc::context context;
     bc::command_queue queue;
+    // The cache's programs of this context, held here: cleared through this pointer, the cache is
+    // reached even after Boost.Compute's own static, which holds it too, is gone at exit. (With
+    // more than eight contexts in use at once, Boost.Compute may drop this cache from its own and
+    // start another for the context, which this pointer does not reach: that one goes when it is
+    // dropped in turn.)
+    boost::shared_ptr<bc::program_cache> programs;
 };
 
 namespace {
@@ -100,7 +140,13 @@ DevicePrimitives::BackendTiming DevicePrimitives::timeBackends(const OclRuntime&
 
 DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend, bool warmUpNow)
     : m_rt(rt), m_backend(backend) {
-    if (m_backend == Backend::Auto) m_backend = rt.isCpu() ? Backend::Chunked : fasterBackend(rt);
+    if (m_backend == Backend::Auto && rt.isCpu()) m_backend = Backend::Chunked;
+    if (m_backend == Backend::Auto) {
+        // Made first, so that the timing's own Boost.Compute programs stay in the cache for it.
+        m_boost = std::make_unique<Boost>(rt);
+        m_backend = fasterBackend(rt);
+        if (m_backend == Backend::Chunked) m_boost.reset();
+    }
     m_maxChunks = std::min<size_t>(4 * rt.computeUnits(), 256);  // a few chunks per core balance the load
 
     if (m_backend == Backend::Chunked) {
@@ -111,7 +157,7 @@ DevicePrimitives::DevicePrimitives(const OclRuntime& rt, Backend backend, bool w
         m_scanChunks = rt.makeKernel(program, "scanChunks");
         m_chunkSums.reserve(rt, m_maxChunks);
         m_badKeys.fill(rt, 0u, 1);
-    } else {
+    } else if (!m_boost) {
         m_boost = std::make_unique<Boost>(rt);
     }
     if (warmUpNow) warmUp();
@@ -164,6 +210,7 @@ void DevicePrimitives::sortByKeyBits(const cl::Buffer& keys, const cl::Buffer& v
     if (m_boost) {
         if (n < 2) return;
         bc::buffer k(keys(), true), v(values(), true);
+        const std::lock_guard<std::mutex> guard(Boost::lock());
         bc::stable_sort_by_key(bc::make_buffer_iterator<bc::uint_>(k, 0), bc::make_buffer_iterator<bc::uint_>(k, n),
                                bc::make_buffer_iterator<bc::int_>(v, 0), m_boost->queue);
         return;
@@ -262,6 +309,7 @@ void DevicePrimitives::exclusiveScan(const cl::Buffer& in, const cl::Buffer& out
     if (n == 0) return;
     if (m_boost) {
         bc::buffer i(in(), true), o(out(), true);
+        const std::lock_guard<std::mutex> guard(Boost::lock());
         bc::exclusive_scan(bc::make_buffer_iterator<bc::int_>(i, 0), bc::make_buffer_iterator<bc::int_>(i, n),
                            bc::make_buffer_iterator<bc::int_>(o, 0), m_boost->queue);
         return;

@@ -1,5 +1,7 @@
 #include "DeviceSolver.h"
 
+#include "row_solve.h"
+
 namespace btocl {
 namespace {
 
@@ -84,15 +86,17 @@ void DeviceSolver::bindSolveBuffers(cl::Kernel& k, const DeviceLayoutView& layou
             m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_control.buffer());
 }
 
-void DeviceSolver::launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
+void DeviceSolver::launchPass(const StepPlan& plan, const DeviceLayoutView& layout, int passIndex,
                               const SolveSettings& s) {
+    const btoclPassStep pass = btoclPassAt(plan.passes(), passIndex);
     cl::Kernel& k = m_passKernels[size_t(pass.pass)];
     const size_t lanes = size_t(plan.lanesPerGroup());
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         const int first = layout.setGroupStart[size_t(set)];
         const int count = layout.setGroupStart[size_t(set) + 1] - first;
         bindSolveBuffers(k, layout);
-        setArgsFrom(k, kSolveBufferArgs, first, s.flags, pass.iteration, plan.passes().numIterations);
+        setArgsFrom(k, kSolveBufferArgs, first, s.flags, pass.iteration, plan.passes().numIterations,
+                    cl_uint(btoclPassSeed(plan.passes(), passIndex)));
         m_rt.launch(k, size_t(count) * lanes, lanes, "launching a solve pass");
     }
 }
@@ -104,7 +108,7 @@ void DeviceSolver::launchPerSet(const StepPlan& plan, const DeviceLayoutView& la
     const int numPasses = btoclPassCount(plan.passes());
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep pass = btoclPassAt(plan.passes(), i);
-        launchPass(plan, layout, pass, s);
+        launchPass(plan, layout, i, s);
         if (!track || !pass.endsIteration) continue;
         setArgs(m_endIteration, m_control.buffer(), s.residualThreshold, pass.pass == BTOCL_PASS_PUSH ? 1 : 0);
         m_rt.launch(m_endIteration, 1, 1, "launching endIteration");
@@ -192,7 +196,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
             "writing a warm-up buffer");
     for (cl::Kernel& k : m_passKernels) {
         bindScratch(k, control);
-        setArgsFrom(k, kSolveBufferArgs, none, none, none, none);
+        setArgsFrom(k, kSolveBufferArgs, none, none, none, none, 0u);
         warm.launch(k, grid, wg);
     }
     setArgs(m_endIteration, control, noThreshold, none);

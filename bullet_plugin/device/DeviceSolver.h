@@ -53,8 +53,7 @@ private:
     static constexpr cl_uint kSolveBufferArgs = 10;
     void bindSolveBuffers(cl::Kernel& kernel, const DeviceLayoutView& layout) const;
     void launchPerSet(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
-    void launchPass(const StepPlan& plan, const DeviceLayoutView& layout, const btoclPassStep& pass,
-                    const SolveSettings& settings);
+    void launchPass(const StepPlan& plan, const DeviceLayoutView& layout, int passIndex, const SolveSettings& settings);
     void launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                        const SolveSettings& settings, int workGroups);

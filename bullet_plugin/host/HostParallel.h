@@ -8,6 +8,7 @@
 // (docs/performance.md).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -18,10 +19,11 @@ namespace btocl {
 // Below this many items a loop runs on the calling thread (waking the pool costs some tens of
 // microseconds, and the items of a small loop take less). From about 16K items the loops' gain
 // outweighs that (docs/performance.md).
-// Tests lower it to run small scenes in parallel, and raise it to run large ones serially.
+// Tests lower it to run small scenes in parallel, and raise it to run large ones serially
+// (atomic: solvers in other threads read it meanwhile).
 constexpr size_t kMinParallelItems = 16384;
-inline size_t& minParallelItems() {
-    static size_t items = kMinParallelItems;
+inline std::atomic<size_t>& minParallelItems() {
+    static std::atomic<size_t> items{kMinParallelItems};
     return items;
 }
 

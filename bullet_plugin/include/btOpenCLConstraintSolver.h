@@ -45,7 +45,8 @@ struct btOpenCLSolverConfig {
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
     // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
-    // order, as Bullet's solver does.
+    // order, as Bullet's solver does. With SOLVER_RANDMIZE_ORDER in the solver info the points'
+    // order is shuffled instead (README, "Solver modes").
     bool rotatePoints = false;
     // A step our solver fails to run (a device error, buffers past the device's limits) is solved
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
@@ -103,6 +104,11 @@ public:
     btOpenCLConstraintSolver(const btOpenCLConstraintSolver&) = delete;
     btOpenCLConstraintSolver& operator=(const btOpenCLConstraintSolver&) = delete;
 
+    // A step's solveGroup calls, between prepareSolve and allSolved, are gathered and solved
+    // together in allSolved. Bullet's own solver solves each call at once; so that no group is
+    // lost or solved under another call's settings, the groups gathered so far are solved first
+    // at a second prepareSolve and at a solveGroup whose btContactSolverInfo differs from theirs
+    // in a setting the step reads. A solveGroup outside the bracket is solved at once.
     void prepareSolve(int numBodies, int numManifolds) override;
     btScalar solveGroup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
                         int numManifolds, btTypedConstraint** constraints, int numConstraints,

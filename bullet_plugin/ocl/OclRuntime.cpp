@@ -8,15 +8,16 @@
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
+#include <mutex>
 #include <sstream>
 
 namespace btocl {
-namespace {
-
-std::string lower(std::string s) {
+std::string lowerCase(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return s;
 }
+
+namespace {
 
 std::string trim(const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r\n");
@@ -66,10 +67,15 @@ void checkCl(cl_int err, const char* what) {
 // (kernels/solve.cl, solveStepClaimed) keeps one running on every compute unit for the whole
 // step, waiting on each other between sets. Unpinned, Linux at times woke both workers of a
 // 2-core machine on one core, which ran the step at one core's speed; pinned (POCL_AFFINITY=1),
-// every step ran at two (docs/performance.md). PoCL reads the variable when it starts its workers, at the process's first device
-// query; a value the user set is kept (POCL_AFFINITY=0 opts out).
+// every step ran at two (docs/performance.md). PoCL reads the variable when it starts its
+// workers, at the process's first device query; a value the user set is kept (POCL_AFFINITY=0
+// opts out). Once per process: setenv may not run beside another thread's getenv, and solvers
+// made in threads at once would race here.
 static void pinPoclWorkersUnlessAsked() {
-    if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
+    static std::once_flag once;
+    std::call_once(once, [] {
+        if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
+    });
 }
 
 std::vector<DeviceEntry> listDevices() {
@@ -119,7 +125,7 @@ DeviceEntry selectDevice(const std::string& specIn) {
             if (d.type & t) return &d;
         return nullptr;
     };
-    const std::string key = lower(spec);
+    const std::string key = lowerCase(spec);
     const DeviceEntry* found = nullptr;
     if (key.empty()) {
         found = firstOfType(CL_DEVICE_TYPE_GPU);
@@ -134,7 +140,7 @@ DeviceEntry selectDevice(const std::string& specIn) {
         if (index < devices.size()) found = &devices[index];
     } else {
         for (const DeviceEntry& d : devices)
-            if (lower(d.platformName + " / " + d.deviceName).find(key) != std::string::npos) {
+            if (lowerCase(d.platformName + " / " + d.deviceName).find(key) != std::string::npos) {
                 found = &d;
                 break;
             }
@@ -169,9 +175,9 @@ OclRuntime::OclRuntime(const std::string& deviceSpec) {
     m_hostUnifiedMemory = m_device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
     if (const char* env = std::getenv("BT_OPENCL_TRANSFERS"); env && *env) {
         const std::string value = env;
-        if (value == "copy")
+        if (lowerCase(value) == "copy")
             transferByCopy();
-        else if (value != "auto")
+        else if (lowerCase(value) != "auto")
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_TRANSFERS is '" + value +
                                       "'; it takes auto or copy");
     }

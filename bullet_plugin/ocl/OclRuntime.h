@@ -17,6 +17,9 @@ struct DeviceEntry {
     cl_device_type type = 0;
 };
 
+// s in lower case (ASCII): device names and the environment's values match in any case.
+std::string lowerCase(std::string s);
+
 // All devices of all platforms, in platform order.
 std::vector<DeviceEntry> listDevices();
 

@@ -9,27 +9,39 @@
 namespace btocl {
 
 // One pass over every set, group and batch in layout order, or over the constraints in gather
-// order; returns the largest squared residual. The iteration and m_numIterations matter to the
-// velocity passes (btoclSolveConstraint).
+// order as one group of one run (the serial path's whole step); with the randomized order, each
+// group's batches and each batch's constraints in the orders that one lane walks on the device
+// (solve.cl). Returns the largest squared residual. The iteration and m_numIterations matter to
+// the velocity passes (btoclSolveConstraint).
 float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration,
-                           int numIterations) {
+                           int numIterations, unsigned passSeed) {
     const btoclSolveBuffers b{p.constraints.data(), m_rows.data(), m_normalOfRow.data(), m_applied.data(),
                               m_pushApplied.data(), p.bodies.data(), p.deltas.data()};
+    const int shuffled = btoclShuffledRows(pass, flags), constraintsShuffled = btoclShuffledConstraints(pass, flags);
+    const int n = int(p.constraints.size());
+    const btoclGroup whole{0, n, 1, 0};
+    const int wholeEnd = n;
     float maxResidual2 = 0;
-    if (!layout) {
-        for (const btoclConstraint& c : p.constraints)
-            maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, &c, pass, flags, iteration, numIterations));
-        return maxResidual2;
-    }
-    for (const btoclGroup& g : layout->groups)
-        for (int k = 0; k < g.numBatches; ++k) {
-            const int begin = k == 0 ? g.offset : layout->batchEnd[size_t(g.offset + k - 1)];
-            const int end = layout->batchEnd[size_t(g.offset + k)];
-            for (int i = begin; i < end; ++i) {
-                const btoclConstraint* c = b.constraints + layout->solveOrder[size_t(i)];
-                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations));
+    auto walk = [&](const btoclGroup& g, const int* batchEnd, const int* solveOrder) {
+        const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
+        for (int kk = 0; kk < g.numBatches; ++kk) {
+            const int k = btoclOrderAt(g.numBatches, constraintsShuffled, groupSeed, kk);
+            const int begin = k == 0 ? g.offset : batchEnd[g.offset + k - 1];
+            const int end = batchEnd[g.offset + k];
+            const unsigned batchSeed = shuffled ? btoclSeedOf(groupSeed, k) : 0u;
+            for (int j = 0; j < end - begin; ++j) {
+                const int i = begin + btoclOrderAt(end - begin, constraintsShuffled, batchSeed, j);
+                const btoclConstraint* c = b.constraints + (solveOrder ? solveOrder[i] : i);
+                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations,
+                                                                           shuffled ? btoclSeedOf(batchSeed, i) : 0u));
             }
         }
+    };
+    if (!layout) {
+        if (n > 0) walk(whole, &wholeEnd, nullptr);
+        return maxResidual2;
+    }
+    for (const btoclGroup& g : layout->groups) walk(g, layout->batchEnd.data(), layout->solveOrder.data());
     return maxResidual2;
 }
 
@@ -55,8 +67,8 @@ int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const Solv
     float residual2 = 0;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
-        residual2 = std::max(residual2,
-                             solvePass(p, layout, step.pass, settings.flags, step.iteration, passes.numIterations));
+        residual2 = std::max(residual2, solvePass(p, layout, step.pass, settings.flags, step.iteration,
+                                                  passes.numIterations, btoclPassSeed(passes, i)));
         if (!step.endsIteration) continue;
         if (step.pass != BTOCL_PASS_PUSH) ++iterations;
         if (track && residual2 <= settings.residualThreshold) {

@@ -23,7 +23,8 @@ public:
               const BatchLayout* layout = nullptr);
 
 private:
-    float solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration, int numIterations);
+    float solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration, int numIterations,
+                    unsigned passSeed);
 
     // The rows as the passes read them (btoclSolveRow), with each friction and rolling row's normal
     // row, and the impulses they update, all in gather order.

@@ -12,6 +12,7 @@ struct SolveSettings {
     float residualThreshold = 0;
     bool usePush = false;        // m_splitImpulse
     bool warmStart = false;      // apply the rows' starting impulses before the iterations
+    unsigned orderSeed = 0;      // with BTOCL_FLAG_RANDOM_ORDER: the step's seed of its shuffled orders
 };
 
 }  // namespace btocl

@@ -84,6 +84,7 @@ inline btoclPassSchedule passScheduleOf(const SolveSettings& s, const StepProble
     passes.pushIterations = s.usePush && p.mayNeedPush ? s.numIterations : 0;
     passes.numIterations = s.numIterations;
     passes.maxIterations = p.maxIterations(s.numIterations);
+    passes.orderSeed = s.orderSeed;
     return passes;
 }
 

@@ -60,9 +60,10 @@ void addBenchOptions(CLI::App& app, BenchOptions& o, std::string& solver) {
         ->check(CLI::IsMember({"auto", "serial", "wide"}))
         ->capture_default_str();
     app.add_option("--order", o.order,
-                   "our solver's order: rotated (each iteration starts a manifold's points at another) or fixed (as Bullet's)")
+                   "our solver's order: rotated (each iteration starts a manifold's points at another), fixed (as Bullet's) "
+                   "or randomized (SOLVER_RANDMIZE_ORDER in its world's solver info)")
         ->type_name("ORDER")
-        ->check(CLI::IsMember({"rotated", "fixed"}))
+        ->check(CLI::IsMember({"rotated", "fixed", "randomized"}))
         ->capture_default_str();
     app.add_flag("--with-si-randomized", o.withSiRandomized,
                  "a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER (JSON side siRandomized)");

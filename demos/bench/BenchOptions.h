@@ -14,7 +14,7 @@ struct BenchOptions {
     double dt = 1.0 / 60.0;
     bool runSi = true, runOurs = true;
     std::string solvePath = "auto";    // btOpenCLSolverConfig::solvePath
-    std::string order = "fixed";       // btOpenCLSolverConfig::rotatePoints
+    std::string order = "fixed";       // rotated: btOpenCLSolverConfig::rotatePoints; randomized: SOLVER_RANDMIZE_ORDER
     int wholeStepMaxRows = -1;         // btOpenCLSolverConfig::wholeStepMaxRows
     int hostStepMaxRows = -1;          // btOpenCLSolverConfig::hostStepMaxRows
     bool withSiRandomized = false;     // a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER

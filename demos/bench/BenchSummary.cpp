@@ -63,9 +63,9 @@ Json quality(const SolverSide& side, const RunFacts& facts) {
 Json sideJson(const SolverSide& side, const RunFacts& facts) {
     Json s = Json::object();
     s["solver"] = side.kind == SolverKind::OpenCL ? "btOpenCLConstraintSolver" : "btSequentialImpulseConstraintSolver";
-    // The Gauss-Seidel order: Bullet's fixed or randomized (SOLVER_RANDMIZE_ORDER), ours rotated or fixed.
-    s["order"] = side.ocl ? (side.ocl->getConfig().rotatePoints ? "rotated" : "fixed")
-                          : (side.kind == SolverKind::BulletSIRandomized ? "randomized" : "fixed");
+    // The Gauss-Seidel order: fixed, randomized (SOLVER_RANDMIZE_ORDER, either solver) or, ours, rotated.
+    const bool randomized = side.scene && (side.scene->info().m_solverMode & SOLVER_RANDMIZE_ORDER);
+    s["order"] = randomized ? "randomized" : side.ocl && side.ocl->getConfig().rotatePoints ? "rotated" : "fixed";
     s["error"] = side.error.empty() ? Json() : Json(side.error);
     s["stepsDone"] = side.stepsDone;
     s["msPerStep"] = timing(side.msPerStep);

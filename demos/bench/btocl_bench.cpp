@@ -81,6 +81,7 @@ int run(const BenchOptions& options) {
     if (options.runOurs)
         ours = makeSolverSide("ours", options.standIn ? SolverKind::BulletSI : SolverKind::OpenCL, *scene, facts.size,
                               options.iterations, config);
+    if (ours && ours->scene && options.order == "randomized") ours->scene->info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
     if (options.withSiRandomized)
         siRandomized = makeSolverSide("siRandomized", SolverKind::BulletSIRandomized, *scene, facts.size,
                                       options.iterations, config);
