@@ -76,9 +76,14 @@ TEST_CASE("a step solved on the host gives the device's whole step, to the round
     // device in one launch: the same constraints in the same order, the same row code. The first
     // step starts from the same state, so only the device compiler's fused multiply-adds part them:
     // 1e-4 relative, as the device solve against its host reference (test_device_solve.cpp).
+    // In SI's order, in the randomized order (the same seeds on both), and interleaved.
+    const int mode = GENERATE(0, int(SOLVER_RANDMIZE_ORDER), int(SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS));
+    CAPTURE(mode);
     World host(SolverKind::OpenCL, hostSteps(1000000)), device(SolverKind::OpenCL, wholeOnDevice());
-    pyramidAndChains(host);
-    pyramidAndChains(device);
+    for (World* w : {&host, &device}) {
+        pyramidAndChains(*w);
+        w->info().m_solverMode |= mode;
+    }
     host.step();
     device.step();
     REQUIRE(host.openCL()->getLastStats().solvedOnHost);
