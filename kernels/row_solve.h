@@ -15,7 +15,12 @@
 // away (PoCL's compiler kept one copy that tested the pass at every row).
 #define BTOCL_SOLVE_INLINE static inline __attribute__((always_inline))
 #else
+// Likewise in the host's solve (HostSolve.cpp), which calls it with the pass as a constant.
+#if defined(__GNUC__)
+#define BTOCL_SOLVE_INLINE static inline __attribute__((always_inline))
+#else
 #define BTOCL_SOLVE_INLINE BTOCL_INLINE
+#endif
 #include <float.h>
 #define BTOCL_GLOBAL
 #define BTOCL_FLT_MAX FLT_MAX

@@ -8,19 +8,18 @@
 
 namespace btocl {
 
+namespace {
+
 // One pass over every set, group and batch in layout order, or over the constraints in gather
 // order as one group of one run (the serial path's whole step); with the randomized order, each
 // group's batches and each batch's constraints in the orders that one lane walks on the device
 // (solve.cl). Returns the largest squared residual. The iteration and m_numIterations matter to
-// the velocity passes (btoclSolveConstraint).
-float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration,
-                           int numIterations, unsigned passSeed) {
-    const btoclSolveBuffers b{p.constraints.data(), m_rows.data(), m_normalOfRow.data(), m_applied.data(),
-                              m_pushApplied.data(), p.bodies.data(), p.deltas.data()};
-    const int shuffled = btoclShuffledRows(pass, flags), constraintsShuffled = btoclShuffledConstraints(pass, flags);
-    const int n = int(p.constraints.size());
-    const btoclGroup whole{0, n, 1, 0};
-    const int wholeEnd = n;
+// the velocity passes (btoclSolveConstraint). The pass is a constant, as in the kernels, so that
+// the compiler folds its branches away.
+template <int PASS>
+float solvePassOf(const btoclSolveBuffers& b, int numConstraints, const BatchLayout* layout, int flags, int iteration,
+                  int numIterations, unsigned passSeed) {
+    const int shuffled = btoclShuffledRows(PASS, flags), constraintsShuffled = btoclShuffledConstraints(PASS, flags);
     float maxResidual2 = 0;
     auto walk = [&](const btoclGroup& g, const int* batchEnd, const int* solveOrder) {
         const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
@@ -32,17 +31,33 @@ float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, 
             for (int j = 0; j < end - begin; ++j) {
                 const int i = begin + btoclOrderAt(end - begin, constraintsShuffled, batchSeed, j);
                 const btoclConstraint* c = b.constraints + (solveOrder ? solveOrder[i] : i);
-                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, pass, flags, iteration, numIterations,
+                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, PASS, flags, iteration, numIterations,
                                                                            shuffled ? btoclSeedOf(batchSeed, i) : 0u));
             }
         }
     };
     if (!layout) {
-        if (n > 0) walk(whole, &wholeEnd, nullptr);
+        const btoclGroup whole{0, numConstraints, 1, 0};
+        if (numConstraints > 0) walk(whole, &numConstraints, nullptr);
         return maxResidual2;
     }
     for (const btoclGroup& g : layout->groups) walk(g, layout->batchEnd.data(), layout->solveOrder.data());
     return maxResidual2;
+}
+
+}  // namespace
+
+float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration,
+                           int numIterations, unsigned passSeed) {
+    const btoclSolveBuffers b{p.constraints.data(), m_rows.data(), m_normalOfRow.data(), m_applied.data(),
+                              m_pushApplied.data(), p.bodies.data(), p.deltas.data()};
+    const int n = int(p.constraints.size());
+    switch (pass) {
+        case BTOCL_PASS_NORMAL: return solvePassOf<BTOCL_PASS_NORMAL>(b, n, layout, flags, iteration, numIterations, passSeed);
+        case BTOCL_PASS_FRICTION: return solvePassOf<BTOCL_PASS_FRICTION>(b, n, layout, flags, iteration, numIterations, passSeed);
+        case BTOCL_PASS_PUSH: return solvePassOf<BTOCL_PASS_PUSH>(b, n, layout, flags, iteration, numIterations, passSeed);
+        default: return solvePassOf<BTOCL_PASS_WARMSTART>(b, n, layout, flags, iteration, numIterations, passSeed);
+    }
 }
 
 int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
