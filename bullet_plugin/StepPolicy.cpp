@@ -25,7 +25,7 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
 
 // Steps of at most this many rows are solved on the host when the solver decides (measured on
 // PoCL against the device's whole step: docs/performance.md).
-constexpr long long kHostStepMaxRows = 2048;
+constexpr long long kHostStepMaxRows = 3584;
 
 long long resolveHostStepMaxRows(int asked) {
     constexpr long long never = -1, always = std::numeric_limits<long long>::max();
