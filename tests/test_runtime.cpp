@@ -98,3 +98,22 @@ TEST_CASE("host and kernels agree on the layout of the shared structs", "[runtim
     CHECK(s[3] == int(sizeof(btoclBodyDelta)));
     CHECK(s[4] == int(sizeof(btoclGroup)));
 }
+
+// Hidden ([.]): each runs in a process of its own by ctest (pocl_threads_pinned / _unpinned), with
+// POCL_AFFINITY unset, so that its first solver is the process's first device query.
+TEST_CASE("pinPoclThreads pins PoCL's workers through POCL_AFFINITY, unless the first solver says not",
+          "[.][pocl-affinity]") {
+    REQUIRE(std::getenv("POCL_AFFINITY") == nullptr);
+    const char* pin = std::getenv("BTOCL_TEST_PIN");
+    REQUIRE(pin != nullptr);
+    btOpenCLSolverConfig first, second;
+    first.pinPoclThreads = std::string(pin) == "1";
+    second.pinPoclThreads = !first.pinPoclThreads;  // too late: the first solver decided
+    btOpenCLConstraintSolver a(first);
+    btOpenCLConstraintSolver b(second);
+    const char* affinity = std::getenv("POCL_AFFINITY");
+    if (first.pinPoclThreads)
+        CHECK((affinity != nullptr && std::string(affinity) == "1"));
+    else
+        CHECK(affinity == nullptr);
+}

@@ -52,6 +52,13 @@ struct btOpenCLSolverConfig {
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
     // input (non-finite values, negative counts) still throws.
     bool fallbackToBullet = false;
+    // On PoCL's CPU device: its worker threads pinned to cores (the library sets POCL_AFFINITY=1
+    // in the process's environment), which on a quiet machine halves the time of a split step
+    // and its worst steps (docs/performance.md). PoCL reads the variable once per process, at
+    // the first device query: the first solver made decides, and a value already in the
+    // environment is kept. Off: the threads left to the OS, which moves them away from another
+    // busy process's core.
+    bool pinPoclThreads = true;
     // Every kernel the solver can launch is compiled when the solver is made, so that no step
     // waits for a compile. An OpenCL device compiles a kernel's code at its first launch: on a
     // CPU through PoCL, with an empty kernel cache (a new machine or PoCL version), seconds in all

@@ -68,18 +68,18 @@ void checkCl(cl_int err, const char* what) {
 // step, waiting on each other between sets. Unpinned, Linux at times woke both workers of a
 // 2-core machine on one core, which ran the step at one core's speed; pinned (POCL_AFFINITY=1),
 // every step ran at two (docs/performance.md). PoCL reads the variable when it starts its
-// workers, at the process's first device query; a value the user set is kept (POCL_AFFINITY=0
-// opts out). Once per process: setenv may not run beside another thread's getenv, and solvers
+// workers, at the process's first device query: the first call decides, and a value the user
+// set is kept. Once per process: setenv may not run beside another thread's getenv, and solvers
 // made in threads at once would race here.
-static void pinPoclWorkersUnlessAsked() {
+void pinPoclWorkersOnce(bool pin) {
     static std::once_flag once;
-    std::call_once(once, [] {
-        if (std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
+    std::call_once(once, [pin] {
+        if (pin && std::getenv("POCL_AFFINITY") == nullptr) setenv("POCL_AFFINITY", "1", 0);
     });
 }
 
 std::vector<DeviceEntry> listDevices() {
-    pinPoclWorkersUnlessAsked();
+    pinPoclWorkersOnce(true);
     std::vector<DeviceEntry> out;
     std::vector<cl::Platform> platforms;
     if (cl::Platform::get(&platforms) != CL_SUCCESS) return out;
@@ -155,7 +155,8 @@ DeviceEntry selectDevice(const std::string& specIn) {
     return *found;
 }
 
-OclRuntime::OclRuntime(const std::string& deviceSpec) {
+OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers) {
+    pinPoclWorkersOnce(pinPoclWorkers);
     const DeviceEntry entry = selectDevice(deviceSpec);
     m_device = entry.device;
     m_deviceName = entry.platformName + " / " + entry.deviceName;

@@ -39,9 +39,14 @@ enum class DevicePhase { Upload, Split, Batch, Setup, Solve, Download, Count };
 void checkCl(cl_int err, const char* what);
 const char* clErrorName(cl_int err);
 
+// Pins PoCL's worker threads to cores (POCL_AFFINITY=1) unless `pin` is false or the variable is
+// set: the first call in the process decides (PoCL reads it once, at the first device query).
+void pinPoclWorkersOnce(bool pin);
+
 class OclRuntime {
 public:
-    explicit OclRuntime(const std::string& deviceSpec);
+    // pinPoclWorkers: pinPoclWorkersOnce's, before the process's first device query.
+    explicit OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers = true);
 
     const cl::Context& context() const { return m_context; }
     const cl::CommandQueue& queue() const { return m_queue; }
