@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Sets up, builds and runs the side-by-side benchmark on every scene, then prints the README's
+# Sets up, builds and runs the side-by-side benchmark on every scene, then prints its
 # results table (Markdown) from the JSON summaries. The JSON files stay in build/bench/.
 # Each scene first runs a few steps of our solver alone: PoCL compiles kernel variants the first
 # time it meets a launch shape and caches them, and that one-time cost is not a step's cost.
 #
-#   bash scripts/benchmarks.sh                      # speed: the README's results table
+#   bash scripts/benchmarks.sh                      # speed: every scene, a table (record-bench.sh keeps it)
 #   bash scripts/benchmarks.sh --quality [RUN...]   # quality of resting scenes, 600 steps each
 #
 # --quality runs scenes that come to rest (a pyramid with a base of 20, the default wall, a
@@ -27,6 +27,7 @@ bench=build/demos/btocl_bench
 
 if [[ "$mode" == quality ]]; then
   mkdir -p build/quality
+  rm -f build/quality/*.json  # one run a folder: scripts/record-bench.sh keeps it whole
   runs=("$@")
   if [[ ${#runs[@]} -eq 0 ]]; then
     runs=("pyramid 20" "wall 10" "block-grid 216" "pile 1000")
@@ -45,30 +46,12 @@ if [[ "$mode" == quality ]]; then
       --json "build/quality/$scene-$size-rotated.json" >/dev/null
     names+=("$scene-$size")
   done
-  python3 - build/quality "${names[@]}" <<'PY'
-import json, os, sys
-folder, names = sys.argv[1], sys.argv[2:]
-print("| scene | bodies | solver | max drift | resting kinetic energy | max penetration | standing |")
-print("|---|---|---|---|---|---|---|")
-def yn(v):
-    return "-" if v is None else ("yes" if v else "no")
-for name in names:
-    both = json.load(open(os.path.join(folder, name + ".json")))
-    randomized = json.load(open(os.path.join(folder, name + "-randomized.json")))
-    rotated = json.load(open(os.path.join(folder, name + "-rotated.json")))
-    sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]), ("ours", both["ours"]),
-             ("ours randomized", randomized["ours"]), ("ours, rotatePoints", rotated["ours"])]
-    label = "%s %d" % (both["scene"], both["size"])
-    for solver, side in sides:
-        q = side["quality"]
-        print("| %s | %d | %s | %.4f | %.2e | %.4f | %s |" % (
-            label, both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"], q["maxPenetration"],
-            yn(q["stacksStanding"])))
-PY
+  python3 scripts/perf_report.py quality build/quality "${names[@]}"
   exit 0
 fi
 
 mkdir -p build/bench
+rm -f build/bench/*.json  # one run a folder: scripts/record-bench.sh keeps it whole
 # scene, size, steps: a new user's first scenes (Bullet's BasicDemo, a hinge chain, small stacks),
 # then larger ones up to the paper's.
 runs=(
@@ -92,25 +75,4 @@ for run in "${runs[@]}"; do
   "$bench" --scene "$scene" --size "$size" --steps "$steps" --iterations 10 --json "build/bench/$scene-$size.json" >/dev/null
   names+=("$scene-$size")
 done
-python3 - build/bench "${names[@]}" <<'PY'
-import json, os, sys
-folder, names = sys.argv[1], sys.argv[2:]
-print("| scene | size | bodies | contact points | joint rows | SI ms/step | ours ms/step | ours / SI | SI p99 / max | ours p99 / max | p99 ours / SI | groups | max penetration SI / ours | max joint error SI / ours | standing SI / ours |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-def num(v):
-    return "-" if v is None else "%.3f" % v
-def yn(v):
-    return "-" if v is None else ("yes" if v else "no")
-def ms(v):
-    return "%.3f" % v if v < 1 else "%.1f" % v
-for name in names:
-    d = json.load(open(os.path.join(folder, name + ".json")))
-    si, o = d["si"], d["ours"]
-    ts, to = si["msPerStep"], o["msPerStep"]
-    print("| %s | %d | %d | %d | %d | %s | %s | %.2f | %s / %s | %s / %s | %.2f | %d | %.3f / %.3f | %s / %s | %s / %s |" % (
-        d["scene"], d["size"], d["bodies"], d["contactPoints"], o["jointRows"], ms(ts["median"]), ms(to["median"]),
-        d["ratioOursOverSi"], ms(ts["p99"]), ms(ts["max"]), ms(to["p99"]), ms(to["max"]), to["p99"] / ts["p99"],
-        o["groups"], si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
-        num(si["quality"]["maxJointError"]), num(o["quality"]["maxJointError"]),
-        yn(si["quality"]["stacksStanding"]), yn(o["quality"]["stacksStanding"])))
-PY
+python3 scripts/perf_report.py speed build/bench

@@ -22,6 +22,7 @@ bash scripts/setup.sh
 bash scripts/build.sh >/dev/null
 bench=build/demos/btocl_bench
 mkdir -p build/growth
+[[ -z "$only" ]] && rm -f build/growth/*.json  # one run a folder: scripts/record-bench.sh keeps it whole
 runs=(
   "block 3000 30"
   "block 12000 20"
@@ -45,21 +46,4 @@ for run in "${runs[@]}"; do
   done
   names+=("$scene-$size")
 done
-python3 - build/growth "${names[@]}" <<'PY'
-import json, os, sys
-folder, names = sys.argv[1], sys.argv[2:]
-print("| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
-      "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
-      "| ours device MB | ours device bytes per point |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-for name in names:
-    si = json.load(open(os.path.join(folder, name + "-si.json")))
-    oc = json.load(open(os.path.join(folder, name + "-ocl.json")))
-    s, o = si["si"], oc["ours"]
-    mb = lambda b: b / 2**20
-    print("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
-        si["scene"], si["bodies"], si["steps"], s["contactPointsMax"], o["contactPointsMax"],
-        s["msPerStep"]["median"], o["msPerStep"]["median"], o["msPerStep"]["median"] / s["msPerStep"]["median"],
-        s["msPer1000ContactPoints"], o["msPer1000ContactPoints"],
-        mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]), mb(o["deviceBytes"]), o["deviceBytesPerContactPoint"]))
-PY
+python3 scripts/perf_report.py growth build/growth "${names[@]}"

@@ -1,0 +1,361 @@
+#!/usr/bin/env python3
+"""Tables (and the growth plot) from btocl_bench and startup JSON: the one place that prints them.
+
+  perf_report.py speed DIR                 Markdown table of one speed run (scripts/benchmarks.sh)
+  perf_report.py quality DIR NAME...       resting-quality table (scripts/benchmarks.sh --quality)
+  perf_report.py growth DIR NAME...        growth table (scripts/growth.sh)
+  perf_report.py docs                      rewrites the generated blocks of README.md,
+                                           docs/performance.md and docs/quality.md, and
+                                           docs/growth.png, from the runs kept in docs/bench/
+
+docs/bench/MACHINE/KIND/STAMP/ holds what scripts/record-bench.sh copied from one run (KIND:
+speed, quality, growth, startup) with meta.json (commit, date, load). A generated block lies
+between "<!-- generated: NAME -->" and "<!-- end generated -->"; the text around it is written
+by hand and kept.
+"""
+import glob
+import json
+import os
+import re
+import statistics
+import sys
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+BENCH = os.path.join(ROOT, "docs", "bench")
+
+# The speed runs' scenes in the order a reader meets them: a new user's first scenes, then larger.
+SPEED_ORDER = ["basic-5", "chain-20", "pyramid-10", "machine-64", "pyramid-20", "wall-10", "pile-1000",
+               "ragdolls-200", "pyramid3d-20", "columns-12000", "block-12000"]
+SCENE_WORDS = {
+    "basic": "Bullet's BasicDemo, 5x5x5 boxes",
+    "chain": "hinge chain, 20 links",
+    "pyramid": "2D pyramid, base %d",
+    "machine": "chains and pendulums, paddles",
+    "wall": "brick wall, %d courses",
+    "pile": "%d boxes dropped",
+    "ragdolls": "%d ragdolls",
+    "pyramid3d": "3D pyramid, base %d",
+    "columns": "the paper's columns, %d boxes",
+    "block": "dense block, %d boxes",
+}
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def ms(v):
+    return "%.3f" % v if v < 1 else "%.1f" % v
+
+
+def yn(v):
+    return "-" if v is None else ("yes" if v else "no")
+
+
+def num(v):
+    return "-" if v is None else "%.3f" % v
+
+
+def path_of(ours):
+    """How our solver ran the scene's steps: on the host, whole on the device, or split."""
+    kinds = []
+    if ours.get("stepsOnHost"):
+        kinds.append("host")
+    if ours.get("stepsWholeOnDevice"):
+        kinds.append("whole")
+    if ours.get("groups"):
+        kinds.append("split")
+    return "+".join(kinds) or "-"
+
+
+def describe(d):
+    words = SCENE_WORDS.get(d["scene"], d["scene"] + " %d")
+    return words % d["size"] if "%d" in words else words
+
+
+# --- one run, printed by the scripts that ran it ---------------------------------------------------
+
+def print_speed(folder):
+    names = [n for n in SPEED_ORDER if os.path.exists(os.path.join(folder, n + ".json"))]
+    names += sorted(os.path.basename(p)[:-5] for p in glob.glob(os.path.join(folder, "*.json"))
+                    if os.path.basename(p)[:-5] not in names and not p.endswith("meta.json"))
+    print("| scene | size | bodies | contact points | joint rows | path | SI ms/step | ours ms/step | ours / SI "
+          "| SI p99 / max | ours p99 / max | p99 ours / SI | max penetration SI / ours | max joint error SI / ours "
+          "| standing SI / ours |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for name in names:
+        d = load(os.path.join(folder, name + ".json"))
+        si, o = d["si"], d["ours"]
+        ts, to = si["msPerStep"], o["msPerStep"]
+        print("| %s | %d | %d | %d | %d | %s | %s | %s | %.2f | %s / %s | %s / %s | %.2f | %.3f / %.3f | %s / %s "
+              "| %s / %s |" % (
+                  d["scene"], d["size"], d["bodies"], d["contactPoints"], o["jointRows"], path_of(o),
+                  ms(ts["median"]), ms(to["median"]), d["ratioOursOverSi"], ms(ts["p99"]), ms(ts["max"]),
+                  ms(to["p99"]), ms(to["max"]), to["p99"] / ts["p99"],
+                  si["quality"]["maxPenetration"], o["quality"]["maxPenetration"],
+                  num(si["quality"]["maxJointError"]), num(o["quality"]["maxJointError"]),
+                  yn(si["quality"]["stacksStanding"]), yn(o["quality"]["stacksStanding"])))
+
+
+def quality_rows(folder, names):
+    for name in names:
+        both = load(os.path.join(folder, name + ".json"))
+        randomized = load(os.path.join(folder, name + "-randomized.json"))
+        rotated = load(os.path.join(folder, name + "-rotated.json"))
+        sides = [("SI", both["si"]), ("SI randomized", both["siRandomized"]), ("ours", both["ours"]),
+                 ("ours randomized", randomized["ours"]), ("ours, rotatePoints", rotated["ours"])]
+        for solver, side in sides:
+            yield both, solver, side["quality"]
+
+
+def print_quality(folder, names):
+    print("| scene | bodies | solver | max drift | resting kinetic energy | max penetration | standing |")
+    print("|---|---|---|---|---|---|---|")
+    for both, solver, q in quality_rows(folder, names):
+        print("| %s %d | %d | %s | %.4f | %.2e | %.4f | %s |" % (
+            both["scene"], both["size"], both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"],
+            q["maxPenetration"], yn(q["stacksStanding"])))
+
+
+def growth_rows(folder, names):
+    for name in names:
+        si = load(os.path.join(folder, name + "-si.json"))
+        oc = load(os.path.join(folder, name + "-ocl.json"))
+        yield si, si["si"], oc, oc["ours"]
+
+
+def print_growth(folder, names):
+    print("| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
+          "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
+          "| ours device MB | ours device bytes per point |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    mb = lambda b: b / 2**20
+    for si, s, oc, o in growth_rows(folder, names):
+        print("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
+            si["scene"], si["bodies"], si["steps"], s["contactPointsMax"], o["contactPointsMax"],
+            s["msPerStep"]["median"], o["msPerStep"]["median"], o["msPerStep"]["median"] / s["msPerStep"]["median"],
+            s["msPer1000ContactPoints"], o["msPer1000ContactPoints"],
+            mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]), mb(o["deviceBytes"]), o["deviceBytesPerContactPoint"]))
+
+
+# --- the kept runs, for the docs ------------------------------------------------------------------
+
+def runs(machine, kind):
+    """The kept runs of one kind, oldest first: (folder, meta)."""
+    out = []
+    for folder in sorted(glob.glob(os.path.join(BENCH, machine, kind, "*"))):
+        meta_path = os.path.join(folder, "meta.json")
+        out.append((folder, load(meta_path) if os.path.exists(meta_path) else {}))
+    return out
+
+
+def spread(values, fmt="%.2f"):
+    return ", ".join(fmt % v for v in values)
+
+
+def speed_table(machine, run_list):
+    """Every scene of the runs: medians' ratio and p99's ratio, each run apart."""
+    per_scene = {}
+    for folder, _ in run_list:
+        for path in glob.glob(os.path.join(folder, "*.json")):
+            if path.endswith("meta.json"):
+                continue
+            d = load(path)
+            per_scene.setdefault("%s-%d" % (d["scene"], d["size"]), []).append(d)
+    names = [n for n in SPEED_ORDER if n in per_scene] + sorted(n for n in per_scene if n not in SPEED_ORDER)
+    lines = ["| scene | bodies | contact points | joint rows | ours ran it | SI ms/step | ours ms/step "
+             "| ours / SI, median | ours / SI, p99 | ours / SI, worst step | max penetration SI / ours "
+             "| max joint error SI / ours |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for name in names:
+        ds = per_scene[name]
+        last = ds[-1]
+        si_med = statistics.median(d["si"]["msPerStep"]["median"] for d in ds)
+        ours_med = statistics.median(d["ours"]["msPerStep"]["median"] for d in ds)
+        lines.append("| %s | %d | %d | %d | %s | %s | %s | %s | %s | %s | %.3f / %.3f | %s / %s |" % (
+            describe(last), last["bodies"], last["contactPoints"], last["ours"]["jointRows"], path_of(last["ours"]),
+            ms(si_med), ms(ours_med),
+            spread(d["ratioOursOverSi"] for d in ds),
+            spread(d["ours"]["msPerStep"]["p99"] / d["si"]["msPerStep"]["p99"] for d in ds),
+            spread(d["ours"]["msPerStep"]["max"] / d["si"]["msPerStep"]["max"] for d in ds),
+            last["si"]["quality"]["maxPenetration"], last["ours"]["quality"]["maxPenetration"],
+            num(last["si"]["quality"]["maxJointError"]), num(last["ours"]["quality"]["maxJointError"])))
+    return lines, per_scene, names
+
+
+def glance_table(per_scene, names):
+    """The README's short table: where the swap wins and where it loses, by the runs' medians."""
+    lines = ["| scene | ours / SI, median | ours / SI, p99 | |", "|---|---|---|---|"]
+    for name in names:
+        ds = per_scene[name]
+        ratios = [d["ratioOursOverSi"] for d in ds]
+        p99 = [d["ours"]["msPerStep"]["p99"] / d["si"]["msPerStep"]["p99"] for d in ds]
+        verdict = "faster" if max(ratios) < 0.9 else ("slower" if min(ratios) > 1.1 else "about the same")
+        rng = lambda v: "%.2f" % v[0] if len(v) == 1 else "%.2f to %.2f" % (min(v), max(v))
+        lines.append("| %s | %s | %s | %s |" % (describe(ds[-1]), rng(ratios), rng(p99), verdict))
+    return lines
+
+
+def run_sources(run_list):
+    return "; ".join("%s at %s (load %s)" % (m.get("date", "?"), m.get("commit", "?")[:7], m.get("load", "?"))
+                     for _, m in run_list)
+
+
+def quality_table(run_list):
+    folder, _ = run_list[-1]
+    names = sorted({os.path.basename(p)[:-5] for p in glob.glob(os.path.join(folder, "*.json"))
+                    if not re.search(r"-(randomized|rotated)\.json$|meta\.json$", p)})
+    lines = ["| scene | bodies | solver | max drift (m) | resting kinetic energy (J) | max penetration (m) | standing |",
+             "|---|---|---|---|---|---|---|"]
+    for both, solver, q in quality_rows(folder, names):
+        lines.append("| %s %d | %d | %s | %.4f | %.2e | %.4f | %s |" % (
+            both["scene"], both["size"], both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"],
+            q["maxPenetration"], yn(q["stacksStanding"])))
+    return lines
+
+
+def growth_names(folder):
+    return sorted({os.path.basename(p)[:-len("-si.json")] for p in glob.glob(os.path.join(folder, "*-si.json"))},
+                  key=lambda n: (n.split("-")[0], int(n.split("-")[1])))
+
+
+def growth_table(run_list):
+    folder, _ = run_list[-1]
+    lines = ["| scene | boxes | contact points (most) | SI ms/step | ours ms/step | ours / SI | SI ms per 1K points "
+             "| ours ms per 1K points | SI peak RSS MB | ours peak RSS MB | ours device bytes per point |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    mb = lambda b: b / 2**20
+    for si, s, oc, o in growth_rows(folder, growth_names(folder)):
+        lines.append("| %s | %d | %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f |" % (
+            si["scene"], si["bodies"], o["contactPointsMax"], s["msPerStep"]["median"], o["msPerStep"]["median"],
+            o["msPerStep"]["median"] / s["msPerStep"]["median"], s["msPer1000ContactPoints"],
+            o["msPer1000ContactPoints"], mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]),
+            o["deviceBytesPerContactPoint"]))
+    return lines
+
+
+def growth_plot(run_list, out_png):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("perf_report: no matplotlib (Debian: python3-matplotlib); %s left as it is" % out_png, file=sys.stderr)
+        return False
+    folder, meta = run_list[-1]
+    series = {}
+    for si, s, oc, o in growth_rows(folder, growth_names(folder)):
+        for label, side in (("Bullet's solver (SI)", s), ("btOpenCLConstraintSolver", o)):
+            series.setdefault((si["scene"], label), []).append((side["contactPointsMax"], side["msPerStep"]["median"]))
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=100)
+    styles = {"Bullet's solver (SI)": dict(color="#b03030"), "btOpenCLConstraintSolver": dict(color="#2060b0")}
+    marks = {"block": "o-", "columns": "s--"}
+    for (scene, label), pts in sorted(series.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], marks.get(scene, "^-"), label="%s: %s" % (scene, label),
+                **styles[label])
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("contact points in the step (most over the run)")
+    ax.set_ylabel("solver ms per step (median)")
+    ax.set_title("How the solver's cost grows (each solver in its own process)", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.text(0.01, 0.01, "%s, commit %s" % (meta.get("machine", ""), meta.get("commit", "?")[:7]), fontsize=7,
+             color="#666666")
+    fig.tight_layout()
+    fig.savefig(out_png)
+    return True
+
+
+def startup_table(run_list):
+    """Which start-up cost is paid how often: the parts (startup --kernels, cold and warm cache),
+    then the solver made and a scene's first second as a user meets them (startup --cold-warm)."""
+    def each(values, fmt):
+        return ", ".join(fmt % v for v in values) or "-"
+    parts = [(load(os.path.join(f, "kernels-cold.json")), load(os.path.join(f, "kernels-warm.json")))
+             for f, _ in run_list if os.path.exists(os.path.join(f, "kernels-cold.json"))]
+    users = [load(os.path.join(f, "startup.json")) for f, _ in run_list]
+    lines = ["| what | how often | cold (empty cache) | warm |", "|---|---|---|---|"]
+    if parts:
+        programs = lambda d: sum(p["ms"] for p in d["programs"])
+        kernels = lambda d: sum(k["ms"] for k in d["kernels"])
+        count = len(parts[-1][0]["kernels"])
+        lines.append("| the program built | cold: once per machine and PoCL version; warm: once per solver | %s | %s |" % (
+            each([programs(c) for c, _ in parts], "%.0f ms"), each([programs(w) for _, w in parts], "%.0f ms")))
+        lines.append("| the %d kernels' code generated (warm-up launches) | cold: once per machine; warm: once per "
+                     "process | %s | %s |" % (count, each([kernels(c) for c, _ in parts], "%.0f ms"),
+                                               each([kernels(w) for _, w in parts], "%.0f ms")))
+    for scene in [k for k in users[-1] if isinstance(users[-1][k], dict) and "cold" in users[-1][k]]:
+        rs = [u[scene] for u in users if scene in u]
+        lines.append("| %s: the solver made (first in the process) | once per solver | %s | %s |" % (
+            scene, each([r["cold"]["construct_ms"] for r in rs], "%.0f ms"),
+            each([r["warm"]["construct_ms"] for r in rs], "%.0f ms")))
+        lines.append("| %s: made + the first second of steps | | %s | %s |" % (
+            scene, each([r["cold"]["construct_plus_first_second_ms"] / 1000 for r in rs], "%.2f s"),
+            each([r["warm"]["construct_plus_first_second_ms"] / 1000 for r in rs], "%.2f s")))
+        lines.append("| %s: the first step with contacts | | %s | %s |" % (
+            scene, each([r["cold"]["first_contact_step_ms"] for r in rs], "%.1f ms"),
+            each([r["warm"]["first_contact_step_ms"] for r in rs], "%.1f ms")))
+        lines.append("| %s: slowest step / median step | | %s | %s |" % (
+            scene, each([r["cold"]["slowest_over_median"] for r in rs], "%.1fx"),
+            each([r["warm"]["slowest_over_median"] for r in rs], "%.1fx")))
+    return lines
+
+
+def replace_block(path, name, lines):
+    with open(path) as f:
+        text = f.read()
+    pattern = re.compile(r"(<!-- generated: %s -->\n).*?(<!-- end generated -->)" % re.escape(name), re.S)
+    if not pattern.search(text):
+        sys.exit("perf_report: %s has no block '%s'" % (path, name))
+    text = pattern.sub(lambda m: m.group(1) + "\n".join(lines) + "\n" + m.group(2), text)
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def docs():
+    machines = sorted(os.path.basename(p) for p in glob.glob(os.path.join(BENCH, "*")) if os.path.isdir(p))
+    if not machines:
+        sys.exit("perf_report: nothing kept in docs/bench/ (scripts/record-bench.sh)")
+    perf = os.path.join(ROOT, "docs", "performance.md")
+    # One machine for now; the README's table comes from the first that has speed runs.
+    for machine in machines:
+        info = load(os.path.join(BENCH, machine, "machine.json"))
+        header = ["Machine `%s`: %s." % (machine, info.get("description", ""))]
+        speed = runs(machine, "speed")
+        if speed:
+            lines, per_scene, names = speed_table(machine, speed)
+            replace_block(perf, "speed", header + ["", "Runs: %s." % run_sources(speed), ""] + lines)
+            replace_block(os.path.join(ROOT, "README.md"), "glance", glance_table(per_scene, names) + [
+                "", "(%d runs on %s, `docs/bench/%s/`)" % (len(speed), info.get("short", machine), machine)])
+        growth = runs(machine, "growth")
+        if growth:
+            replace_block(perf, "growth", ["Run: %s." % run_sources(growth[-1:]), ""] + growth_table(growth))
+            growth_plot(growth, os.path.join(ROOT, "docs", "growth.png"))
+        startup = runs(machine, "startup")
+        if startup:
+            replace_block(perf, "startup", ["Runs: %s." % run_sources(startup), ""] + startup_table(startup))
+        quality = runs(machine, "quality")
+        if quality:
+            replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",
+                          ["Run: %s, machine `%s`." % (run_sources(quality[-1:]), machine), ""] + quality_table(quality))
+        break
+
+
+def main(argv):
+    if len(argv) >= 2 and argv[0] == "speed":
+        print_speed(argv[1])
+    elif len(argv) >= 2 and argv[0] == "quality":
+        print_quality(argv[1], argv[2:])
+    elif len(argv) >= 2 and argv[0] == "growth":
+        print_growth(argv[1], argv[2:])
+    elif argv == ["docs"]:
+        docs()
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
