@@ -79,8 +79,7 @@ BTOCL_INLINE int btoclFrictionRegionStart(const btoclRowRegions* r) {
 // push: the normal rows on push and turn velocities (Bullet's split impulse), once per iteration;
 // normal and friction: the two halves of a velocity iteration, in SI's order of kinds: every
 // constraint's joint and normal rows, then every constraint's friction and rolling rows (a
-// constraint's friction right after its own normal rows lets resting stacks creep;
-// README).
+// constraint's friction right after its own normal rows let resting stacks creep: f4e01b4).
 enum { BTOCL_PASS_WARMSTART, BTOCL_PASS_PUSH, BTOCL_PASS_NORMAL, BTOCL_PASS_FRICTION, BTOCL_NUM_PASSES };
 
 // The order of a step's passes, written once here and walked by every launch mode and by the host

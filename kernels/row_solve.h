@@ -46,7 +46,7 @@ typedef struct {
 // shuffled (btoclShuffledRows); the friction pass walks its constraints shuffled too: a group's
 // batches, and a batch's constraints where one lane walks them (btoclShuffledConstraints). The
 // normal pass keeps its constraints' order: shuffled as well, resting stacks jittered more than
-// in SI's randomized order, at no less drift (README, "Resting quality").
+// in SI's randomized order, at no less drift (docs/quality.md, "Resting stacks").
 // A shuffle of [0, n) puts k -> (a k + b) mod n with a prime to n: no table, no state.
 typedef struct {
     int n;      // positions
@@ -166,7 +166,7 @@ BTOCL_INLINE void btoclApplyRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, bt
 // linear parts and angular parts, and reduced once, and what depends on the row alone is computed
 // off the chain, rather than two dot products per body reduced one after the other
 // (docs/performance.md). Its rounding differs from that form's, and resting figures move with it
-// as with any reordering of the sums (README, "Resting quality").
+// as with any reordering of the sums (docs/quality.md, "Resting stacks").
 BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, BTOCL_GLOBAL float* appliedImpulse,
                                  btoclSolveBody* A, btoclSolveBody* B, float lower, float upper, int push) {
     const float jacDiagABInv = BTOCL_SOLVE_ROW_JAC_DIAG_INV(*row);

@@ -44,9 +44,9 @@ struct btOpenCLSolverConfig {
     int hostStepMaxRows = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
-    // fixed order (README, "Resting quality"). Off: every iteration walks the points in one fixed
+    // fixed order (docs/quality.md, "Resting stacks"). Off: every iteration walks the points in one fixed
     // order, as Bullet's solver does. With SOLVER_RANDMIZE_ORDER in the solver info the points'
-    // order is shuffled instead (README, "Solver modes").
+    // order is shuffled instead (docs/usage.md, "Solver modes").
     bool rotatePoints = false;
     // A step our solver fails to run (a device error, buffers past the device's limits) is solved
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
@@ -62,7 +62,7 @@ struct btOpenCLSolverConfig {
     // Every kernel the solver can launch is compiled when the solver is made, so that no step
     // waits for a compile. An OpenCL device compiles a kernel's code at its first launch: on a
     // CPU through PoCL, with an empty kernel cache (a new machine or PoCL version), seconds in all
-    // (README, "Start-up cost"). Off: the solver is made without, and warmUp() does it at the
+    // (docs/performance.md, "Start-up"). Off: the solver is made without, and warmUp() does it at the
     // moment the caller chooses; until then each step compiles what it launches first.
     bool warmUpAtConstruction = true;
 };
