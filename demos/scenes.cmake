@@ -7,6 +7,7 @@ add_executable(btocl_bench
   bench/btocl_bench.cpp
   bench/BenchOptions.cpp
   bench/BenchSummary.cpp
+  bench/BitmapFont.cpp
   bench/PngFile.cpp
   bench/Quality.cpp
   bench/Raster.cpp

@@ -3,7 +3,8 @@
 # 240 times (4 s of simulated time) with Bullet's btSequentialImpulseConstraintSolver in one
 # world and btOpenCLConstraintSolver in an identical one, 10 iterations each. Prints the JSON
 # summary (timings per solver and per phase, counts, quality) and draws the last frame to
-# build/demo_pile.png (SI left, ours right). Extra arguments go to btocl_bench.
+# build/demo_pile.png (SI left, ours right, each panel labelled with its solver's name). Extra
+# arguments go to btocl_bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh >&2

@@ -1,5 +1,9 @@
 #include "ScenePicture.h"
 
+#include "BitmapFont.h"
+
+#include <algorithm>
+
 namespace btbench {
 
 namespace {
@@ -25,16 +29,39 @@ std::vector<RenderBox> boxesOf(const btscenes::World& w, bool dynamicOnly) {
     return boxes;
 }
 
+// The label in the panel's top-left corner: dark text on a light, mostly opaque strip, at the
+// largest scale up to panelHeight / 240 (2 at 480 rows) that fits the panel's width.
+void drawLabel(Image& image, int x0, int panelWidth, const std::string& label) {
+    if (label.empty()) return;
+    int scale = std::max(1, image.height / 240);
+    const int margin = 8;
+    auto padding = [](int s) { return 3 * s; };
+    while (scale > 1 && textWidth(label, scale) + 2 * padding(scale) + 2 * margin > panelWidth) --scale;
+    const int pad = padding(scale);
+    const int left = x0 + margin, top = margin;
+    const int right = std::min(x0 + panelWidth - margin, left + textWidth(label, scale) + 2 * pad);
+    const int bottom = std::min(image.height, top + textHeight(scale) + 2 * pad);
+    for (int y = top; y < bottom; ++y)
+        for (int x = left; x < right; ++x) {
+            uint8_t* p = &image.rgb[(size_t(y) * size_t(image.width) + size_t(x)) * 3];
+            for (int k = 0; k < 3; ++k) p[k] = uint8_t((int(p[k]) + 6 * 250) / 7);  // 6/7 of near-white
+        }
+    const uint8_t ink[3] = {25, 25, 30};
+    drawText(image, left + pad, top + pad, label, scale, ink, left, right - pad);
+}
+
 }  // namespace
 
-Image drawWorlds(const std::vector<const btscenes::World*>& worlds, int panelWidth, int panelHeight) {
-    Image image(panelWidth * int(worlds.size() > 0 ? worlds.size() : 1), panelHeight);
-    if (worlds.empty()) return image;
-    const Camera camera = fitCamera(boxesOf(*worlds[0], true));
-    for (size_t i = 0; i < worlds.size(); ++i)
-        renderBoxes(boxesOf(*worlds[i], false), camera, image, int(i) * panelWidth, panelWidth);
+Image drawWorlds(const std::vector<Panel>& panels, int panelWidth, int panelHeight) {
+    Image image(panelWidth * int(panels.size() > 0 ? panels.size() : 1), panelHeight);
+    if (panels.empty()) return image;
+    const Camera camera = fitCamera(boxesOf(*panels[0].world, true));
+    for (size_t i = 0; i < panels.size(); ++i) {
+        renderBoxes(boxesOf(*panels[i].world, false), camera, image, int(i) * panelWidth, panelWidth);
+        drawLabel(image, int(i) * panelWidth, panelWidth, panels[i].label);
+    }
     // A dark line between panels.
-    for (size_t i = 1; i < worlds.size(); ++i)
+    for (size_t i = 1; i < panels.size(); ++i)
         for (int y = 0; y < panelHeight; ++y)
             for (int x = int(i) * panelWidth - 1; x <= int(i) * panelWidth; ++x)
                 for (int k = 0; k < 3; ++k) image.rgb[(size_t(y) * size_t(image.width) + size_t(x)) * 3 + size_t(k)] = 40;

@@ -42,6 +42,15 @@ std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind k
     return side;
 }
 
+std::string solverLabel(const SolverSide& side) {
+    switch (side.kind) {
+        case SolverKind::OpenCL: return "btOpenCLConstraintSolver";
+        case SolverKind::BulletSIRandomized: return "Bullet SI, randomized order";
+        case SolverKind::BulletSI: break;
+    }
+    return side.name == "ours" ? "Bullet SI (stand-in for ours)" : "Bullet SI";
+}
+
 void stepSolverSide(SolverSide& side, double dt) {
     if (!side.alive) return;
     side.timed->beginStep();

@@ -63,6 +63,10 @@ struct SolverSide {
 std::unique_ptr<SolverSide> makeSolverSide(const std::string& name, SolverKind kind, const SceneInfo& scene, int size,
                                            int iterations, const btOpenCLSolverConfig& config);
 
+// The side's solver as a picture labels its panel: "Bullet SI", "btOpenCLConstraintSolver", or
+// "Bullet SI, randomized order"; Bullet's solver standing in for ours (--stand-in) says so.
+std::string solverLabel(const SolverSide& side);
+
 // One world step of dt; records the timings and counts. Catches what the solver throws.
 void stepSolverSide(SolverSide& side, double dt);
 

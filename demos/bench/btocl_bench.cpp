@@ -27,14 +27,14 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void drawFrame(const std::vector<SolverSide*>& sides, const std::string& file, int frame, RunFacts& facts) {
-    std::vector<const World*> worlds;
+    std::vector<Panel> panels;
     facts.pngPanels.clear();
     for (SolverSide* s : sides)
         if (s && s->alive) {
-            worlds.push_back(s->scene.get());
+            panels.push_back({s->scene.get(), solverLabel(*s)});
             facts.pngPanels.push_back(s->name);
         }
-    writePng(file, drawWorlds(worlds, 640, 480));
+    writePng(file, drawWorlds(panels, 640, 480));
     facts.pngFile = file;
     facts.pngFrame = frame;
 }
