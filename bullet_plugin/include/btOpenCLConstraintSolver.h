@@ -8,6 +8,7 @@
 #pragma once
 
 #include "btOpenCLSolverError.h"
+#include "btOpenCLSolverExport.h"
 
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <LinearMath/btScalar.h>
@@ -102,7 +103,7 @@ struct btOpenCLSolverStats {
     std::string lastFallbackReason;     // why the latest of them was: our solver's error
 };
 
-class btOpenCLConstraintSolver : public btConstraintSolver {
+class BTOCL_API btOpenCLConstraintSolver : public btConstraintSolver {
 public:
     btOpenCLConstraintSolver();  // default config
     explicit btOpenCLConstraintSolver(const btOpenCLSolverConfig& config);
