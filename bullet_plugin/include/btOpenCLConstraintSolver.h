@@ -9,6 +9,7 @@
 
 #include "btOpenCLSolverError.h"
 #include "btOpenCLSolverExport.h"
+#include "btOpenCLSolverVersion.h"  // BTOCL_VERSION_MAJOR, ..._MINOR, ..._PATCH, BTOCL_VERSION_STRING
 
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <LinearMath/btScalar.h>
