@@ -3,7 +3,8 @@
 # with the library alone, in a build folder kept between runs. Against each install prefix:
 #   - tests/consumer built with CMake (find_package) and with a plain compiler command line
 #     (pkg-config bullet-opencl-solver), and each run;
-#   - the package's version file refuses another minor or major version (static install).
+#   - the package's version file refuses another minor or major version (static install);
+#   - examples/ built on its own and basic_demo run and checked (shared install).
 #   cmake -DBUILD_DIR=<build> -DSOURCE=<project source> -DSHARED=<BUILD_SHARED_LIBS of the build>
 #         -DVERSION=<project version> -DLIBDIR=<CMAKE_INSTALL_LIBDIR> -DCONFIG=<build type>
 #         -DSANITIZE=<BTOCL_SANITIZE> -DSANITIZE_THREAD=<BTOCL_SANITIZE_THREAD> -DCXX=<compiler>
@@ -64,7 +65,7 @@ run("configure the ${other_kind} library" "${CMAKE_COMMAND}" -S "${SOURCE}" -B "
     "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_INSTALL_LIBDIR=${LIBDIR}"
     "-DBUILD_SHARED_LIBS=${other_shared}"
     "-DBTOCL_SANITIZE=${SANITIZE}" "-DBTOCL_SANITIZE_THREAD=${SANITIZE_THREAD}"
-    -DBTOCL_BUILD_TESTS=OFF -DBTOCL_BUILD_DEMOS=OFF)
+    -DBTOCL_BUILD_TESTS=OFF -DBTOCL_BUILD_DEMOS=OFF -DBTOCL_BUILD_EXAMPLES=OFF)
 run("build the ${other_kind} library" "${CMAKE_COMMAND}" --build "${other_build}" --parallel 2)
 done("${other_kind} library built")
 set(build_of_${this_kind} "${BUILD_DIR}")
@@ -162,3 +163,13 @@ foreach(requested 0.0 0.2 1.0)
   endif()
 endforeach()
 done("find_package(BulletOpenCLSolver 0.0), (0.2) and (1.0) refused")
+
+# examples/ on its own, against the shared install.
+set(examples "${work}/examples")
+file(REMOVE_RECURSE "${examples}")
+run("configure examples/" "${CMAKE_COMMAND}" -S "${SOURCE}/examples" -B "${examples}"
+    "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_PREFIX_PATH=${work}/shared-install")
+run("build examples/" "${CMAKE_COMMAND}" --build "${examples}")
+check_links_soname("basic_demo" "${examples}/basic_demo")
+run("run basic_demo" "${CMAKE_COMMAND}" "-DDEMO=${examples}/basic_demo" -P "${consumer_source}/run_basic_demo.cmake")
+done("examples/ built on its own against the shared install, basic_demo run and checked:\n${last_output}")
