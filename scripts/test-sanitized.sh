@@ -3,8 +3,9 @@
 # (BTOCL_SANITIZE) into build-asan/ and runs them there: a memory error, a leak or undefined
 # behaviour in our code fails the run. Debug: it builds in about a third of the time of an
 # optimised build, and the tests spend most of their time in the OpenCL driver anyway. The
-# demos are left out; install_and_consume builds its consumer with the same flags (the
-# installed package passes them on).
+# demos are left out; install_and_consume builds its consumers with the same flags (the
+# installed package passes them on, through CMake and pkg-config), and the shared library
+# sanitized too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -8,6 +8,8 @@
 #pragma once
 
 #include "btOpenCLSolverError.h"
+#include "btOpenCLSolverExport.h"
+#include "btOpenCLSolverVersion.h"  // BTOCL_VERSION_MAJOR, ..._MINOR, ..._PATCH, BTOCL_VERSION_STRING
 
 #include <BulletDynamics/ConstraintSolver/btConstraintSolver.h>
 #include <LinearMath/btScalar.h>
@@ -102,7 +104,7 @@ struct btOpenCLSolverStats {
     std::string lastFallbackReason;     // why the latest of them was: our solver's error
 };
 
-class btOpenCLConstraintSolver : public btConstraintSolver {
+class BTOCL_API btOpenCLConstraintSolver : public btConstraintSolver {
 public:
     btOpenCLConstraintSolver();  // default config
     explicit btOpenCLConstraintSolver(const btOpenCLSolverConfig& config);

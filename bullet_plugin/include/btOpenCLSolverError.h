@@ -3,6 +3,8 @@
 // throw it too.
 #pragma once
 
+#include "btOpenCLSolverExport.h"
+
 #include <stdexcept>
 
 // Every error the solver reports: no device, a kernel build failure (with the compiler's log),
@@ -11,7 +13,7 @@
 // nothing in the world, and the solver steps on. btDiscreteDynamicsWorld::stepSimulation skips
 // its clearForces() when the step throws: a caller who catches and steps on calls
 // world.clearForces() first, or the forces (gravity too) of the failed step count twice.
-class btOpenCLSolverError : public std::runtime_error {
+class BTOCL_API btOpenCLSolverError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
