@@ -105,6 +105,12 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
         }
         s["phasesMsMedian"] = medians;
         s["phasesMsP90"] = p90s;
+    } else if (side.si && !side.phases.total.empty()) {
+        // Bullet's phases: set-up (its rows, the warm start), solve (its iterations), writeback
+        // (its finish), total (the timed share of the step, as ours).
+        const PhaseSamples& p = side.phases;
+        s["phasesMsMedian"] = {{"setup", quantile(p.setup, 0.5)}, {"solve", quantile(p.solve, 0.5)},
+                               {"writeback", quantile(p.writeback, 0.5)}, {"total", quantile(p.total, 0.5)}};
     }
     s["quality"] = side.stepsDone > 0 ? quality(side, facts) : Json();  // nothing to judge
     return s;

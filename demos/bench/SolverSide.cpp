@@ -71,6 +71,12 @@ void stepSolverSide(SolverSide& side, double dt) {
     if (side.si) {
         side.lastRows = side.si->rowsThisStep();
         side.lastJointRows = side.si->jointRowsThisStep();
+        // SI's phases under our phases' names: its set-up, its iterations, its finish.
+        PhaseSamples& p = side.phases;
+        p.setup.push_back(side.si->msSetup());
+        p.solve.push_back(side.si->msIterations());
+        p.writeback.push_back(side.si->msFinish());
+        p.total.push_back(c.ms);
     }
     if (side.ocl) {
         const btOpenCLSolverStats& s = side.ocl->getLastStats();
