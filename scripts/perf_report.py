@@ -308,6 +308,49 @@ def startup_table(run_list):
     return lines
 
 
+def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20")):
+    """How far the split scenes' solve phase is from what the cores can move: row updates per
+    second per core, and the bytes a row update moves against the measured bandwidth. Scenes at
+    rest only: their last step's counts stand for every step's, whose median solve time is read."""
+    hw = load(os.path.join(hardware_runs[-1][0], "bandwidth.json"))
+    size = hw["bytes"]
+    cores = hw["cores"]
+    all_cores = [t for t in hw["threadsPerCore"] if t["threads"] == cores][-1]
+    one_core = [t for t in hw["threadsPerCore"] if t["threads"] == 1][-1]
+    lines = ["Bandwidth (`memory_bandwidth`, arrays of %d MiB, best of its runs): one thread reads %.1f GB/s and "
+             "copies %.1f; %d threads read %.1f and copy %.1f." % (hw["arrayMiB"], one_core["readGBps"],
+                                                                 one_core["copyGBps"], cores, all_cores["readGBps"],
+                                                                 all_cores["copyGBps"]), "",
+             "| scene | rows | row updates a step | solve ms | ns per row update on a core | row updates per s per core "
+             "| bytes per row update | GB/s moved | of the %d cores' read bandwidth |" % cores,
+             "|---|---|---|---|---|---|---|---|---|"]
+    folder, _ = speed_runs[-1]
+    for name in scenes:
+        path = os.path.join(folder, name + ".json")
+        if not os.path.exists(path):
+            continue
+        d = load(path)
+        o = d["ours"]
+        # Every manifold of a resting scene has points: one constraint each.
+        rows, points, constraints = o["constraintRows"], o["contactPoints"], o["manifolds"]
+        updates = d["iterations"] * rows + points  # every velocity iteration, and the warm start
+        solve_ms = o["phasesMsMedian"]["solve"]
+        ns_core = solve_ms * 1e6 * cores / updates
+        # A row: its record and its impulse read and written. A constraint, in each of an
+        # iteration's two passes: its record, and for each of its two bodies the three lanes of its
+        # record the solve reads (inverse mass, factors) and one velocity pair of its delta (half
+        # the delta record) read and written.
+        body_bytes = 3 * 16 + 2 * (size["bodyDelta"] // 2)
+        per_constraint = size["constraint"] + 2 * body_bytes
+        row_bytes = size["solveRow"] + 2 * size["appliedImpulse"]
+        bytes_per_update = row_bytes + per_constraint * 2.0 * constraints / rows
+        gbps = updates * bytes_per_update / (solve_ms * 1e-3) / 1e9
+        lines.append("| %s | %d | %.2fM | %.1f | %.1f | %.0fM | %.0f | %.1f | %.0f%% |" % (
+            describe(d), rows, updates / 1e6, solve_ms, ns_core, 1e3 / ns_core, bytes_per_update, gbps,
+            100.0 * gbps / all_cores["readGBps"]))
+    return lines
+
+
 def replace_block(path, name, lines):
     with open(path) as f:
         text = f.read()
@@ -341,6 +384,10 @@ def docs():
         startup = runs(machine, "startup")
         if startup:
             replace_block(perf, "startup", ["Runs: %s." % run_sources(startup), ""] + startup_table(startup))
+        hardware = runs(machine, "hardware")
+        if hardware and speed:
+            replace_block(perf, "limit", ["Runs: %s; %s." % (run_sources(speed[-1:]), run_sources(hardware[-1:])), ""]
+                          + limit_table(speed, hardware))
         quality = runs(machine, "quality")
         if quality:
             replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",

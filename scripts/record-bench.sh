@@ -5,7 +5,7 @@
 # the docs' figures are never typed by hand.
 #
 #   bash scripts/record-bench.sh MACHINE speed [speed ...]   # scripts/benchmarks.sh, once per word
-#   bash scripts/record-bench.sh MACHINE quality growth startup
+#   bash scripts/record-bench.sh MACHINE quality growth startup hardware
 #   bash scripts/record-bench.sh MACHINE docs                # regenerate only
 #
 # MACHINE names the machine (a folder); docs/bench/MACHINE/machine.json describes it (written
@@ -63,8 +63,14 @@ for kind in "$@"; do
       POCL_CACHE_DIR="$cache" build/demos/startup --kernels >build/startup/kernels-warm.json
       rm -rf "$cache"
       keep startup build/startup ;;
+    hardware)
+      bash scripts/build.sh >/dev/null
+      mkdir -p build/hardware
+      rm -f build/hardware/*.json
+      build/demos/memory_bandwidth >build/hardware/bandwidth.json
+      keep hardware build/hardware ;;
     docs) ;;
-    *) echo "record-bench: unknown kind '$kind' (speed, quality, growth, startup, docs)" >&2; exit 2 ;;
+    *) echo "record-bench: unknown kind '$kind' (speed, quality, growth, startup, hardware, docs)" >&2; exit 2 ;;
   esac
 done
 "$py" scripts/perf_report.py docs
