@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <string>
 #include <cmath>
 #include <cstdio>
 #include <thread>
@@ -38,6 +40,21 @@ double bestGBps(int runs, double bytes, Run run) {
     double best = 0;
     for (int r = 0; r < runs; ++r) best = std::max(best, bytes / run() / 1e9);
     return std::round(best * 100) / 100;
+}
+
+// Data and unified caches of the first core as Linux lists them (level -> KiB); empty elsewhere.
+Json cachesKiB() {
+    Json caches = Json::object();
+    for (int index = 0; index < 8; ++index) {
+        const std::string dir = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/";
+        std::ifstream level(dir + "level"), type(dir + "type"), size(dir + "size");
+        int l = 0;
+        std::string t, sz;
+        if (!(level >> l) || !(type >> t) || !(size >> sz) || t == "Instruction") continue;
+        const double kib = std::stod(sz) * (sz.back() == 'M' ? 1024.0 : 1.0);
+        caches["L" + std::to_string(l)] = kib;
+    }
+    return caches;
 }
 
 }  // namespace
@@ -78,6 +95,7 @@ int main(int argc, char** argv) {
         out["threadsPerCore"].push_back({{"threads", threads}, {"readGBps", readGBps}, {"copyGBps", copyGBps}});
     }
     out["cores"] = cores;
+    out["cacheKiB"] = cachesKiB();
     out["arrayMiB"] = mib;
     // What one row update touches (kernels/btocl_shared.h, kernels/row_solve.h).
     out["bytes"] = {{"solveRow", sizeof(btoclSolveRow)},

@@ -309,21 +309,23 @@ def startup_table(run_list):
 
 
 def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20")):
-    """How far the split scenes' solve phase is from what the cores can move: row updates per
-    second per core, and the bytes a row update moves against the measured bandwidth. Scenes at
-    rest only: their last step's counts stand for every step's, whose median solve time is read."""
+    """How far the split scenes' solve phase is from what the cores can do: row updates per second
+    per core, and the rows' stream against the measured bandwidth. Scenes at rest only: their
+    last step's counts stand for every step's, whose median solve time is read."""
     hw = load(os.path.join(hardware_runs[-1][0], "bandwidth.json"))
     size = hw["bytes"]
     cores = hw["cores"]
+    l3_mib = hw.get("cacheKiB", {}).get("L3", 0) / 1024
     all_cores = [t for t in hw["threadsPerCore"] if t["threads"] == cores][-1]
     one_core = [t for t in hw["threadsPerCore"] if t["threads"] == 1][-1]
     lines = ["Bandwidth (`memory_bandwidth`, arrays of %d MiB, best of its runs): one thread reads %.1f GB/s and "
-             "copies %.1f; %d threads read %.1f and copy %.1f." % (hw["arrayMiB"], one_core["readGBps"],
-                                                                 one_core["copyGBps"], cores, all_cores["readGBps"],
-                                                                 all_cores["copyGBps"]), "",
+             "copies %.1f; %d threads read %.1f and copy %.1f. Last-level cache: %.0f MiB." % (
+                 hw["arrayMiB"], one_core["readGBps"], one_core["copyGBps"], cores, all_cores["readGBps"],
+                 all_cores["copyGBps"], l3_mib), "",
              "| scene | rows | row updates a step | solve ms | ns per row update on a core | row updates per s per core "
-             "| bytes per row update | GB/s moved | of the %d cores' read bandwidth |" % cores,
-             "|---|---|---|---|---|---|---|---|---|"]
+             "| rows' MiB (records and impulses) | bodies' and constraints' MiB | rows' stream GB/s "
+             "| of the %d cores' read bandwidth |" % cores,
+             "|---|---|---|---|---|---|---|---|---|---|"]
     folder, _ = speed_runs[-1]
     for name in scenes:
         path = os.path.join(folder, name + ".json")
@@ -336,17 +338,16 @@ def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20"
         updates = d["iterations"] * rows + points  # every velocity iteration, and the warm start
         solve_ms = o["phasesMsMedian"]["solve"]
         ns_core = solve_ms * 1e6 * cores / updates
-        # A row: its record and its impulse read and written. A constraint, in each of an
-        # iteration's two passes: its record, and for each of its two bodies the three lanes of its
-        # record the solve reads (inverse mass, factors) and one velocity pair of its delta (half
-        # the delta record) read and written.
-        body_bytes = 3 * 16 + 2 * (size["bodyDelta"] // 2)
-        per_constraint = size["constraint"] + 2 * body_bytes
+        # A row update reads the row's record and reads and writes its impulse; where the rows
+        # outgrow the last-level cache, every pass streams them from memory. The bodies' records
+        # and deltas and the constraints' records, read once a constraint in each pass, are
+        # smaller and stay in the caches on these scenes.
         row_bytes = size["solveRow"] + 2 * size["appliedImpulse"]
-        bytes_per_update = row_bytes + per_constraint * 2.0 * constraints / rows
-        gbps = updates * bytes_per_update / (solve_ms * 1e-3) / 1e9
-        lines.append("| %s | %d | %.2fM | %.1f | %.1f | %.0fM | %.0f | %.1f | %.0f%% |" % (
-            describe(d), rows, updates / 1e6, solve_ms, ns_core, 1e3 / ns_core, bytes_per_update, gbps,
+        rows_mib = rows * (size["solveRow"] + size["appliedImpulse"]) / 2**20
+        others_mib = (d["bodies"] * (size["body"] + size["bodyDelta"]) + constraints * size["constraint"]) / 2**20
+        gbps = updates * row_bytes / (solve_ms * 1e-3) / 1e9
+        lines.append("| %s | %d | %.2fM | %.1f | %.1f | %.0fM | %.0f | %.1f | %.1f | %.0f%% |" % (
+            describe(d), rows, updates / 1e6, solve_ms, ns_core, 1e3 / ns_core, rows_mib, others_mib, gbps,
             100.0 * gbps / all_cores["readGBps"]))
     return lines
 
