@@ -1,6 +1,7 @@
 #include "StepPipeline.h"
 
 #include "BulletConversions.h"
+#include "BulletGather.h"
 #include "HostRowSetup.h"
 #include "LayoutValidator.h"
 #include "StepWriteBack.h"
@@ -51,6 +52,7 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
     const auto t0 = std::chrono::steady_clock::now();
     const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints, m_orderSeed++);
     const StepPlan step = planStep(m_plan, p, settings);
+    if (!step.oneGroup()) addSplitGeometry(p, bullet);
     if (step.onHost())
         solveOnHost(p, bullet, step, settings, s);
     else

@@ -180,25 +180,30 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
     const GatheredJoints g = gatherJoints(w, joints, w.stepInfo());
     const JointRowSet& set = g.joints;
     REQUIRE(set.constraints.size() == 5);
+    for (const btoclConstraint& c : set.constraints) CHECK(c.position.w == float(w.stepInfo().m_numIterations));
+    // Placed for a split step, from extents that the joints alone make (the gather's AABB
+    // extents come with addSplitGeometry, for a step that is split).
+    std::vector<btoclConstraint> placed = set.constraints;
+    std::vector<SplitBody> bodies = g.problem.splitBodies;
+    placeJointSplitPoints(set, placed.data(), bodies);
 
     // The top joint, to the fixed body: the middle of the top link's AABB.
-    CHECK(set.constraints[0].position.y == Approx(9.75f));
-    CHECK_FALSE(set.constraints[0].dynamicB);
+    CHECK(placed[0].position.y == Approx(9.75f));
+    CHECK_FALSE(placed[0].dynamicB);
     for (int i = 1; i < 4; ++i) {
-        const btoclConstraint& c = set.constraints[size_t(i)];
+        const btoclConstraint& c = placed[size_t(i)];
         CHECK(c.dynamicA);
         CHECK(c.dynamicB);
         CHECK(c.position.y == Approx(10.0f - 0.5f * float(i)));  // the shared face
+        CHECK(c.position.w == set.constraints[size_t(i)].position.w);  // the iterations kept
     }
     for (size_t b = 1; b < g.problem.bodies.size(); ++b) {
-        if (g.original[b] == s1 || g.original[b] == s2) {
-            CHECK(set.splitExtent[b] == Approx(2.0f));  // its own 1 m and half the 2 m gap
-        } else {
-            CHECK(set.splitExtent[b] == Approx(g.problem.splitBodies[b].extent));  // nothing added
-            CHECK(set.splitExtent[b] == Approx(0.5f));
-        }
+        if (g.original[b] == s1 || g.original[b] == s2)
+            CHECK(bodies[b].extent == Approx(2.0f));  // its own 1 m and half the 2 m gap
+        else
+            CHECK(bodies[b].extent == Approx(0.5f));  // its AABB's edge: nothing added
     }
-    CHECK(set.constraints[4].position.x == Approx(11.5f));
+    CHECK(placed[4].position.x == Approx(11.5f));
     (void)chain;
 }
 

@@ -114,14 +114,8 @@ void StepGatherer::fillSolverBody(int index) {
     }
     b.externalTorqueImpulse = toFloat4(torqueImpulse);
 
-    SplitBody split;
+    SplitBody split;  // its extent waits for a step that is split (addSplitGeometry)
     split.dynamic = invMass != 0;
-    if (split.dynamic) {
-        btVector3 lo, hi;
-        rb->getCollisionShape()->getAabb(xf, lo, hi);
-        const btVector3 size = hi - lo;
-        split.extent = float(size[size.maxAxis()]);
-    }
     p.bodies[size_t(index)] = b;
     p.deltas[size_t(index)] = btoclBodyDelta{};
     m_bullet.worldTransforms[size_t(index)] = xf;
@@ -210,8 +204,6 @@ void StepGatherer::addJointRows() {
         p.constraints.push_back(c);
         m_bullet.manifoldOfConstraint.push_back(nullptr);
     }
-    for (size_t b = 0; b < p.splitBodies.size(); ++b)
-        p.splitBodies[b].extent = std::max(p.splitBodies[b].extent, m_bullet.joints.splitExtent[b]);
     p.rows.insert(p.rows.end(), m_bullet.joints.rows.begin(), m_bullet.joints.rows.end());
 }
 
@@ -368,6 +360,20 @@ StepProblem& StepGatherer::finish() {
     if (!p.rowsOnDevice) setupRowsOnHost(p, m_bullet);
     if (!m_joints.empty()) addJointRows();
     return p;
+}
+
+void addSplitGeometry(StepProblem& p, const BulletStep& bullet) {
+    parallelFor(p.splitBodies.size() - 1, [&](size_t i) {
+        SplitBody& split = p.splitBodies[i + 1];
+        if (!split.dynamic) return;
+        btVector3 lo, hi;
+        bullet.original[i + 1]->getCollisionShape()->getAabb(bullet.worldTransforms[i + 1], lo, hi);
+        const btVector3 size = hi - lo;
+        split.extent = float(size[size.maxAxis()]);
+    }, kRigidBodyWeight);
+    const JointRowSet& joints = bullet.joints;
+    if (!joints.constraints.empty())  // the joints' constraints come last (StepGatherer::addJointRows)
+        placeJointSplitPoints(joints, &p.constraints[p.constraints.size() - joints.constraints.size()], p.splitBodies);
 }
 
 void StepGatherer::releaseBodies() {

@@ -81,4 +81,11 @@ private:
     std::vector<ManifoldSlot> m_slots;  // one per manifold, reused from step to step
 };
 
+// The global split's geometry, which only a step that is split reads (a step solved whole or on
+// the host does without it): each dynamic body's extent (SplitBody::extent: the largest edge of
+// its AABB, grown by its joints' split points) and each joint's split point (its constraint's
+// position; a contact constraint's is its points' centre, set by the gather). Call it on a
+// finished step, before the split.
+void addSplitGeometry(StepProblem& p, const BulletStep& bullet);
+
 }  // namespace btocl

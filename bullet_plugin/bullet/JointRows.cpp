@@ -183,7 +183,6 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
         numRows += j.numRows;
     }
     set.rows.resize(size_t(numRows));
-    set.splitExtent.assign(solverBodies.size(), 0.f);
 
     // Rows: each joint's getInfo2 writes only its own rows and its own state, so the joints are
     // filled in parallel (HostParallel.h), each thread with a scratch array of its own.
@@ -211,36 +210,42 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
         }
     }, kJointWeight);
 
-    // Constraints and split points on one thread: a joint's point depends on how far the joints
-    // before it stretched its bodies' reach.
-    ReachBoxes reach(solverBodies.size());
-    for (int i = 0; i < numJoints; ++i) {
-        StepJoint& j = set.joints[size_t(i)];
+    // One constraint per joint with rows; its split point waits for a step that is split
+    // (placeJointSplitPoints).
+    for (StepJoint& j : set.joints) {
         if (j.numRows == 0) continue;
-        btTypedConstraint& c = *j.constraint;
         set.maxIterations = std::max(set.maxIterations, j.numIterations);
-        const btoclBody A = jointSide(c.getRigidBodyA(), j.bodyA, solverBodies);
-        const btoclBody B = jointSide(c.getRigidBodyB(), j.bodyB, solverBodies);
         btoclConstraint con{};
         con.bodyA = j.bodyA;
         con.bodyB = j.bodyB;
-        con.dynamicA = BTOCL_BODY_IS_DYNAMIC(A) != 0;
-        con.dynamicB = BTOCL_BODY_IS_DYNAMIC(B) != 0;
+        con.dynamicA = BTOCL_BODY_IS_DYNAMIC(solverBodies[size_t(j.bodyA)]) != 0;
+        con.dynamicB = BTOCL_BODY_IS_DYNAMIC(solverBodies[size_t(j.bodyB)]) != 0;
         con.firstRow[BTOCL_ROWS_JOINT] = j.firstRow;
         con.numRows[BTOCL_ROWS_JOINT] = j.numRows;
-        const btVector3 point = splitPointOf(c, j, con.dynamicA, con.dynamicB, reach);
-        con.position = toFloat4(point, float(j.numIterations));
-        if (con.dynamicA) reach.grow(j.bodyA, point);
-        if (con.dynamicB) reach.grow(j.bodyB, point);
+        con.position = btoclFloat4{0, 0, 0, float(j.numIterations)};
         j.constraintIndex = int(set.constraints.size());
         set.constraints.push_back(con);
     }
-    for (size_t b = 0; b < solverBodies.size(); ++b)
+    return set;
+}
+
+// On one thread: a joint's point depends on how far the joints before it stretched its bodies'
+// reach.
+void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, std::vector<SplitBody>& bodies) {
+    ReachBoxes reach(bodies.size());
+    for (const StepJoint& j : set.joints) {
+        if (j.numRows == 0) continue;
+        btoclConstraint& con = constraints[size_t(j.constraintIndex)];
+        const btVector3 point = splitPointOf(*j.constraint, j, con.dynamicA != 0, con.dynamicB != 0, reach);
+        con.position = toFloat4(point, con.position.w);
+        if (con.dynamicA) reach.grow(j.bodyA, point);
+        if (con.dynamicB) reach.grow(j.bodyB, point);
+    }
+    for (size_t b = 0; b < bodies.size(); ++b)
         if (reach.known[b]) {
             const btVector3 size = reach.hi[b] - reach.lo[b];
-            set.splitExtent[b] = float(size[size.maxAxis()]);
+            bodies[b].extent = std::max(bodies[b].extent, float(size[size.maxAxis()]));
         }
-    return set;
 }
 
 }  // namespace btocl

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "HostArray.h"
+#include "SplitPlan.h"
 #include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
@@ -40,13 +41,9 @@ struct JointRowSet {
     // The rows of all joints, joint after joint in that order (SI's m_tmpSolverNonContactConstraintPool).
     std::vector<btoclRow> rows;
     // One per joint with rows, in the same order: rows [firstRow, firstRow + numRows) of kind
-    // BTOCL_ROWS_JOINT index `rows` (no rows of other kinds); position is the joint's split point.
+    // BTOCL_ROWS_JOINT index `rows` (no rows of other kinds); position.w is the joint's iteration
+    // count, and its xyz the joint's split point once placeJointSplitPoints has placed it.
     std::vector<btoclConstraint> constraints;
-    // Per solver body: the largest edge of the box that holds its AABB and the split points of its
-    // joints (0 for bodies without joints, and for static and kinematic ones). The global split
-    // needs a cell at least this big (docs/architecture.md, invariant 3): take
-    // max(SplitBody::extent, splitExtent).
-    std::vector<float> splitExtent;
     // The step's velocity iterations: max(m_numIterations, every joint's override), SI's maxIterations.
     int maxIterations = 0;
 };
@@ -56,5 +53,11 @@ struct JointRowSet {
 // dynamic bodies' state. Throws btOpenCLSolverError when a joint's row is not finite.
 JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, const JointBodies* bodies,
                            const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info);
+
+// The joints' part of the global split's geometry, which only a split step reads: each joint's
+// split point into the xyz of its constraint in `constraints` (set.constraints' copies, in their
+// order), and each dynamic body's extent in `bodies` grown to the largest edge of the box that
+// holds its AABB and the split points of its joints (docs/architecture.md, invariant 3).
+void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, std::vector<SplitBody>& bodies);
 
 }  // namespace btocl
