@@ -192,7 +192,7 @@ def glance_table(per_scene, names):
         ratios = [d["ratioOursOverSi"] for d in ds]
         p99 = [d["ours"]["msPerStep"]["p99"] / d["si"]["msPerStep"]["p99"] for d in ds]
         verdict = "faster" if max(ratios) < 0.95 else ("slower" if min(ratios) > 1.05 else "about the same")
-        rng = lambda v: "%.2f" % v[0] if len(v) == 1 else "%.2f to %.2f" % (min(v), max(v))
+        rng = lambda v: "%.2f" % v[0] if "%.2f" % min(v) == "%.2f" % max(v) else "%.2f to %.2f" % (min(v), max(v))
         lines.append("| %s | %s | %s | %s |" % (describe(ds[-1]), rng(ratios), rng(p99), verdict))
     return lines
 
