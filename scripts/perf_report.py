@@ -378,6 +378,10 @@ def docs():
             replace_block(perf, "speed", header + ["", "Runs: %s." % run_sources(speed), ""] + lines)
             replace_block(os.path.join(ROOT, "README.md"), "glance", glance_table(per_scene, names) + [
                 "", "(%d runs on %s, `docs/bench/%s/`)" % (len(speed), info.get("short", machine), machine)])
+        busy = runs(machine, "busy")
+        if busy:
+            lines, _, _ = speed_table(machine, busy)
+            replace_block(perf, "busy", ["Runs: %s." % run_sources(busy), ""] + lines)
         growth = runs(machine, "growth")
         if growth:
             replace_block(perf, "growth", ["Run: %s." % run_sources(growth[-1:]), ""] + growth_table(growth))

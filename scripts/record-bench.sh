@@ -5,6 +5,7 @@
 # the docs' figures are never typed by hand.
 #
 #   bash scripts/record-bench.sh MACHINE speed [speed ...]   # scripts/benchmarks.sh, once per word
+#   bash scripts/record-bench.sh MACHINE busy                # the same beside a busy loop on one core
 #   bash scripts/record-bench.sh MACHINE quality growth startup hardware
 #   bash scripts/record-bench.sh MACHINE docs                # regenerate only
 #
@@ -51,6 +52,13 @@ PY
 for kind in "$@"; do
   case "$kind" in
     speed) bash scripts/benchmarks.sh && keep speed build/bench ;;
+    busy)  # the speed scenes with another process busy on the last core (a game's neighbour)
+      taskset -c "$(($(nproc) - 1))" sh -c 'while :; do :; done' &
+      busy=$!
+      trap 'kill "$busy" 2>/dev/null || true' EXIT  # the loop ends with this script, however it ends
+      bash scripts/benchmarks.sh && keep busy build/bench
+      kill "$busy"
+      trap - EXIT ;;
     quality) bash scripts/benchmarks.sh --quality && keep quality build/quality ;;
     growth) bash scripts/growth.sh && keep growth build/growth ;;
     startup)
@@ -70,7 +78,7 @@ for kind in "$@"; do
       build/demos/memory_bandwidth >build/hardware/bandwidth.json
       keep hardware build/hardware ;;
     docs) ;;
-    *) echo "record-bench: unknown kind '$kind' (speed, quality, growth, startup, hardware, docs)" >&2; exit 2 ;;
+    *) echo "record-bench: unknown kind '$kind' (speed, busy, quality, growth, startup, hardware, docs)" >&2; exit 2 ;;
   esac
 done
 "$py" scripts/perf_report.py docs
