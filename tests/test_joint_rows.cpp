@@ -42,7 +42,8 @@ public:
 // two solver bodies (a kinematic one may join here), then the rows from the finished records.
 struct GatheredJoints {
     StepProblem problem;
-    std::vector<btRigidBody*> original;  // per solver body (BulletStep::original)
+    std::vector<btRigidBody*> original;     // per solver body (BulletStep::original)
+    std::vector<btTransform> worldTransforms;  // per solver body (BulletStep::worldTransforms)
     JointRowSet joints;
 };
 
@@ -59,6 +60,7 @@ GatheredJoints gatherJoints(btCollisionObject** objects, int numObjects, btPersi
     GatheredJoints out;
     out.problem = g.finish();
     out.original = g.bullet().original;
+    out.worldTransforms = g.bullet().worldTransforms;
     out.joints = setUpJointRows(joints, numJoints, bodies.data(), out.problem.bodies, info);
     g.releaseBodies();
     return out;
@@ -181,11 +183,16 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
     const JointRowSet& set = g.joints;
     REQUIRE(set.constraints.size() == 5);
     for (const btoclConstraint& c : set.constraints) CHECK(c.position.w == float(w.stepInfo().m_numIterations));
-    // Placed for a split step, from extents that the joints alone make (the gather's AABB
-    // extents come with addSplitGeometry, for a step that is split).
-    std::vector<btoclConstraint> placed = set.constraints;
-    std::vector<SplitBody> bodies = g.problem.splitBodies;
-    placeJointSplitPoints(set, placed.data(), bodies);
+    // Placed as for a split step: the joints' constraints after the gathered ones, as the gather
+    // puts them.
+    StepProblem p = g.problem;
+    p.constraints.insert(p.constraints.end(), set.constraints.begin(), set.constraints.end());
+    BulletStep bullet;
+    bullet.original = g.original;
+    bullet.worldTransforms = g.worldTransforms;
+    bullet.joints = set;
+    addSplitGeometry(p, bullet);
+    const btoclConstraint* placed = &p.constraints[p.constraints.size() - set.constraints.size()];
 
     // The top joint, to the fixed body: the middle of the top link's AABB.
     CHECK(placed[0].position.y == Approx(9.75f));
@@ -199,9 +206,9 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
     }
     for (size_t b = 1; b < g.problem.bodies.size(); ++b) {
         if (g.original[b] == s1 || g.original[b] == s2)
-            CHECK(bodies[b].extent == Approx(2.0f));  // its own 1 m and half the 2 m gap
+            CHECK(p.splitBodies[b].extent == Approx(2.0f));  // its own 1 m and half the 2 m gap
         else
-            CHECK(bodies[b].extent == Approx(0.5f));  // its AABB's edge: nothing added
+            CHECK(p.splitBodies[b].extent == Approx(0.5f));  // its AABB's edge: nothing added
     }
     CHECK(placed[4].position.x == Approx(11.5f));
     (void)chain;

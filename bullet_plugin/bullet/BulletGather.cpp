@@ -363,17 +363,24 @@ StepProblem& StepGatherer::finish() {
 }
 
 void addSplitGeometry(StepProblem& p, const BulletStep& bullet) {
-    parallelFor(p.splitBodies.size() - 1, [&](size_t i) {
-        SplitBody& split = p.splitBodies[i + 1];
-        if (!split.dynamic) return;
-        btVector3 lo, hi;
-        bullet.original[i + 1]->getCollisionShape()->getAabb(bullet.worldTransforms[i + 1], lo, hi);
-        const btVector3 size = hi - lo;
-        split.extent = float(size[size.maxAxis()]);
+    const size_t n = p.splitBodies.size();
+    SplitReach reach{std::vector<btVector3>(n), std::vector<btVector3>(n)};
+    parallelFor(n - 1, [&](size_t i) {
+        const size_t b = i + 1;
+        if (!p.splitBodies[b].dynamic) return;
+        if (const btCollisionShape* shape = bullet.original[b]->getCollisionShape())
+            shape->getAabb(bullet.worldTransforms[b], reach.lo[b], reach.hi[b]);
+        else
+            reach.lo[b] = reach.hi[b] = bullet.worldTransforms[b].getOrigin();
     }, kRigidBodyWeight);
     const JointRowSet& joints = bullet.joints;
     if (!joints.constraints.empty())  // the joints' constraints come last (StepGatherer::addJointRows)
-        placeJointSplitPoints(joints, &p.constraints[p.constraints.size() - joints.constraints.size()], p.splitBodies);
+        placeJointSplitPoints(joints, &p.constraints[p.constraints.size() - joints.constraints.size()], reach);
+    for (size_t b = 1; b < n; ++b) {
+        if (!p.splitBodies[b].dynamic) continue;
+        const btVector3 size = reach.hi[b] - reach.lo[b];
+        p.splitBodies[b].extent = float(size[size.maxAxis()]);
+    }
 }
 
 void StepGatherer::releaseBodies() {

@@ -7,7 +7,6 @@
 #include "row_setup.h"
 #include "row_solve.h"
 
-#include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <BulletDynamics/ConstraintSolver/btSolverConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
@@ -83,52 +82,25 @@ bool isFiniteRow(const btoclRow& r) {
     return true;
 }
 
-// The box each dynamic body's constraints reach: its AABB (as the gather measures it), grown by
-// the split points of its joints.
-struct ReachBoxes {
-    std::vector<btVector3> lo, hi;
-    std::vector<unsigned char> known;
-
-    explicit ReachBoxes(size_t numBodies) : lo(numBodies), hi(numBodies), known(numBodies, 0) {}
-    void aabbOf(const btRigidBody& rb, int index, btVector3& outLo, btVector3& outHi) {
-        if (!known[size_t(index)]) {
-            const btTransform& xf = rb.getWorldTransform();
-            if (rb.getCollisionShape()) {
-                rb.getCollisionShape()->getAabb(xf, lo[size_t(index)], hi[size_t(index)]);
-            } else {
-                lo[size_t(index)] = hi[size_t(index)] = xf.getOrigin();
-            }
-            known[size_t(index)] = 1;
-        }
-        outLo = lo[size_t(index)];
-        outHi = hi[size_t(index)];
-    }
-    void grow(int index, const btVector3& p) {
-        lo[size_t(index)].setMin(p);
-        hi[size_t(index)].setMax(p);
-    }
-};
-
 // The joint's point for the global split. A dynamic body's constraints must all fall within one
 // cell's edge of each other (docs/architecture.md, invariant 3), and the cell is sized from the
 // bodies' AABBs, within which their contact points lie. Where the two AABBs overlap (linked bodies do at their pivot: chain
 // links, limbs) the point is the middle of the overlap, inside both, and neither body reaches
 // further than its contacts do. Where they are apart, it is halfway across the gap on that axis,
-// and each body's reach grows by half the gap: splitExtent says so, and the split then takes a
+// and each body's reach grows by half the gap: its extent says so, and the split then takes a
 // bigger cell or, by its rule for big bodies, the overflow group. (The midpoint of the two centres
 // would not do: by a long forearm it lies outside a small hand's AABB.) With one dynamic body, the
 // middle of its AABB; with none, nothing locks and any point does.
 btVector3 splitPointOf(const btTypedConstraint& joint, const StepJoint& j, bool dynamicA, bool dynamicB,
-                       ReachBoxes& reach) {
-    const btRigidBody& rbA = joint.getRigidBodyA();
-    const btRigidBody& rbB = joint.getRigidBodyB();
-    if (!dynamicA && !dynamicB) return (rbA.getCenterOfMassPosition() + rbB.getCenterOfMassPosition()) * btScalar(0.5);
-    btVector3 loA, hiA, loB, hiB;
-    reach.aabbOf(dynamicA ? rbA : rbB, dynamicA ? j.bodyA : j.bodyB, loA, hiA);  // the other's, if A is not dynamic
-    reach.aabbOf(dynamicB ? rbB : rbA, dynamicB ? j.bodyB : j.bodyA, loB, hiB);
-    btVector3 lo = loA, hi = hiA;
-    lo.setMax(loB);
-    hi.setMin(hiB);
+                       const SplitReach& reach) {
+    if (!dynamicA && !dynamicB)
+        return (joint.getRigidBodyA().getCenterOfMassPosition() + joint.getRigidBodyB().getCenterOfMassPosition()) *
+               btScalar(0.5);
+    const size_t a = size_t(dynamicA ? j.bodyA : j.bodyB);  // the other's, if A is not dynamic
+    const size_t b = size_t(dynamicB ? j.bodyB : j.bodyA);
+    btVector3 lo = reach.lo[a], hi = reach.hi[a];
+    lo.setMax(reach.lo[b]);
+    hi.setMin(reach.hi[b]);
     return (lo + hi) * btScalar(0.5);  // per axis: middle of the overlap, or of the gap
 }
 
@@ -231,8 +203,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
 
 // On one thread: a joint's point depends on how far the joints before it stretched its bodies'
 // reach.
-void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, std::vector<SplitBody>& bodies) {
-    ReachBoxes reach(bodies.size());
+void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, SplitReach& reach) {
     for (const StepJoint& j : set.joints) {
         if (j.numRows == 0) continue;
         btoclConstraint& con = constraints[size_t(j.constraintIndex)];
@@ -241,11 +212,6 @@ void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints,
         if (con.dynamicA) reach.grow(j.bodyA, point);
         if (con.dynamicB) reach.grow(j.bodyB, point);
     }
-    for (size_t b = 0; b < bodies.size(); ++b)
-        if (reach.known[b]) {
-            const btVector3 size = reach.hi[b] - reach.lo[b];
-            bodies[b].extent = std::max(bodies[b].extent, float(size[size.maxAxis()]));
-        }
 }
 
 }  // namespace btocl

@@ -7,10 +7,10 @@
 #pragma once
 
 #include "HostArray.h"
-#include "SplitPlan.h"
 #include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
+#include <LinearMath/btVector3.h>
 
 #include <vector>
 
@@ -54,10 +54,20 @@ struct JointRowSet {
 JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, const JointBodies* bodies,
                            const HostArray<btoclBody>& solverBodies, const btContactSolverInfo& info);
 
+// The box each dynamic solver body's constraints reach, for the global split: its AABB, grown by
+// the split points of its joints (placeJointSplitPoints). Only dynamic bodies' boxes are read.
+struct SplitReach {
+    std::vector<btVector3> lo, hi;
+
+    void grow(int body, const btVector3& p) {
+        lo[size_t(body)].setMin(p);
+        hi[size_t(body)].setMax(p);
+    }
+};
+
 // The joints' part of the global split's geometry, which only a split step reads: each joint's
 // split point into the xyz of its constraint in `constraints` (set.constraints' copies, in their
-// order), and each dynamic body's extent in `bodies` grown to the largest edge of the box that
-// holds its AABB and the split points of its joints (docs/architecture.md, invariant 3).
-void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, std::vector<SplitBody>& bodies);
+// order), and `reach` grown to hold it (docs/architecture.md, invariant 3).
+void placeJointSplitPoints(const JointRowSet& set, btoclConstraint* constraints, SplitReach& reach);
 
 }  // namespace btocl
