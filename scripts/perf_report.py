@@ -109,13 +109,14 @@ def quality_rows(folder, names):
             yield both, solver, side["quality"]
 
 
-def print_quality(folder, names):
-    print("| scene | bodies | solver | max drift | resting kinetic energy | max penetration | standing |")
-    print("|---|---|---|---|---|---|---|")
+def quality_lines(folder, names):
+    lines = ["| scene | bodies | solver | max drift (m) | resting kinetic energy (J) | max penetration (m) | standing |",
+             "|---|---|---|---|---|---|---|"]
     for both, solver, q in quality_rows(folder, names):
-        print("| %s %d | %d | %s | %.4f | %.2e | %.4f | %s |" % (
+        lines.append("| %s %d | %d | %s | %.4f | %.2e | %.4f | %s |" % (
             both["scene"], both["size"], both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"],
             q["maxPenetration"], yn(q["stacksStanding"])))
+    return lines
 
 
 def growth_rows(folder, names):
@@ -125,18 +126,19 @@ def growth_rows(folder, names):
         yield si, si["si"], oc, oc["ours"]
 
 
-def print_growth(folder, names):
-    print("| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
-          "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
-          "| ours device MB | ours device bytes per point |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+def growth_lines(folder, names):
+    lines = ["| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
+             "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
+             "| ours device MB | ours device bytes per point |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     mb = lambda b: b / 2**20
     for si, s, oc, o in growth_rows(folder, names):
-        print("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
+        lines.append("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
             si["scene"], si["bodies"], si["steps"], s["contactPointsMax"], o["contactPointsMax"],
             s["msPerStep"]["median"], o["msPerStep"]["median"], o["msPerStep"]["median"] / s["msPerStep"]["median"],
             s["msPer1000ContactPoints"], o["msPer1000ContactPoints"],
             mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]), mb(o["deviceBytes"]), o["deviceBytesPerContactPoint"]))
+    return lines
 
 
 # --- the kept runs, for the docs ------------------------------------------------------------------
@@ -202,37 +204,14 @@ def run_sources(run_list):
                      for _, m in run_list)
 
 
-def quality_table(run_list):
-    folder, _ = run_list[-1]
-    names = sorted({os.path.basename(p)[:-5] for p in glob.glob(os.path.join(folder, "*.json"))
-                    if not re.search(r"-(randomized|rotated)\.json$|meta\.json$", p)})
-    lines = ["| scene | bodies | solver | max drift (m) | resting kinetic energy (J) | max penetration (m) | standing |",
-             "|---|---|---|---|---|---|---|"]
-    for both, solver, q in quality_rows(folder, names):
-        lines.append("| %s %d | %d | %s | %.4f | %.2e | %.4f | %s |" % (
-            both["scene"], both["size"], both["bodies"], solver, q["maxDrift"], q["restingKineticEnergy"],
-            q["maxPenetration"], yn(q["stacksStanding"])))
-    return lines
+def quality_names(folder):
+    return sorted({os.path.basename(p)[:-5] for p in glob.glob(os.path.join(folder, "*.json"))
+                   if not re.search(r"-(randomized|rotated)\.json$|meta\.json$", p)})
 
 
 def growth_names(folder):
     return sorted({os.path.basename(p)[:-len("-si.json")] for p in glob.glob(os.path.join(folder, "*-si.json"))},
                   key=lambda n: (n.split("-")[0], int(n.split("-")[1])))
-
-
-def growth_table(run_list):
-    folder, _ = run_list[-1]
-    lines = ["| scene | boxes | contact points (most) | SI ms/step | ours ms/step | ours / SI | SI ms per 1K points "
-             "| ours ms per 1K points | SI peak RSS MB | ours peak RSS MB | ours device bytes per point |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    mb = lambda b: b / 2**20
-    for si, s, oc, o in growth_rows(folder, growth_names(folder)):
-        lines.append("| %s | %d | %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f |" % (
-            si["scene"], si["bodies"], o["contactPointsMax"], s["msPerStep"]["median"], o["msPerStep"]["median"],
-            o["msPerStep"]["median"] / s["msPerStep"]["median"], s["msPer1000ContactPoints"],
-            o["msPer1000ContactPoints"], mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]),
-            o["deviceBytesPerContactPoint"]))
-    return lines
 
 
 def growth_plot(run_list, out_png):
@@ -384,7 +363,9 @@ def docs():
             replace_block(perf, "busy", ["Runs: %s." % run_sources(busy), ""] + lines)
         growth = runs(machine, "growth")
         if growth:
-            replace_block(perf, "growth", ["Run: %s." % run_sources(growth[-1:]), ""] + growth_table(growth))
+            folder = growth[-1][0]
+            replace_block(perf, "growth", ["Run: %s." % run_sources(growth[-1:]), ""] +
+                          growth_lines(folder, growth_names(folder)))
             growth_plot(growth, os.path.join(ROOT, "docs", "growth.png"))
         startup = runs(machine, "startup")
         if startup:
@@ -396,7 +377,8 @@ def docs():
         quality = runs(machine, "quality")
         if quality:
             replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",
-                          ["Run: %s, machine `%s`." % (run_sources(quality[-1:]), machine), ""] + quality_table(quality))
+                          ["Run: %s, machine `%s`." % (run_sources(quality[-1:]), machine), ""] +
+                          quality_lines(quality[-1][0], quality_names(quality[-1][0])))
         break
 
 
@@ -404,9 +386,9 @@ def main(argv):
     if len(argv) >= 2 and argv[0] == "speed":
         print_speed(argv[1])
     elif len(argv) >= 2 and argv[0] == "quality":
-        print_quality(argv[1], argv[2:])
+        print("\n".join(quality_lines(argv[1], argv[2:])))
     elif len(argv) >= 2 and argv[0] == "growth":
-        print_growth(argv[1], argv[2:])
+        print("\n".join(growth_lines(argv[1], argv[2:])))
     elif argv == ["docs"]:
         docs()
     else:
