@@ -175,10 +175,10 @@ OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers) {
     m_computeUnits = std::max<cl_uint>(1, m_device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     m_hostUnifiedMemory = m_device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
     if (const char* env = std::getenv("BT_OPENCL_TRANSFERS"); env && *env) {
-        const std::string value = env;
-        if (lowerCase(value) == "copy")
+        const std::string value = env, key = lowerCase(value);
+        if (key == "copy")
             transferByCopy();
-        else if (lowerCase(value) != "auto")
+        else if (key != "auto")
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_TRANSFERS is '" + value +
                                       "'; it takes auto or copy");
     }
