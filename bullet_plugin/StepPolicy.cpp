@@ -23,11 +23,14 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
     return kWholeStepRowsPerUnitShare * units / (units - 1);
 }
 
-// Steps of at most this many rows are solved on the host when the solver decides (measured on
-// PoCL against the device's whole step: docs/performance.md).
-constexpr long long kHostStepMaxRows = 3584;
+// Steps of at most this many rows are solved on the host when the solver decides (measured
+// against the device's whole and split steps, docs/performance.md). A CPU device solves on the
+// host's own cores, so it wins early; a GPU pays more a launch and runs a whole step in one
+// work-group's lanes: on an H100 the host won to about 20K rows.
+constexpr long long kHostStepMaxRowsCpu = 3584;
+constexpr long long kHostStepMaxRowsGpu = 16384;
 
-long long resolveHostStepMaxRows(int asked) {
+long long resolveHostStepMaxRows(int asked, const OclRuntime& runtime) {
     constexpr long long never = -1, always = std::numeric_limits<long long>::max();
     if (asked == 0) return never;
     if (asked > 0) return asked;
@@ -39,7 +42,7 @@ long long resolveHostStepMaxRows(int asked) {
             throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_HOST_STEPS is '" + std::string(env) +
                                       "'; it takes auto, never or always");
     }
-    return kHostStepMaxRows;
+    return runtime.isCpu() ? kHostStepMaxRowsCpu : kHostStepMaxRowsGpu;
 }
 
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
@@ -68,7 +71,8 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.sortAndScan = !plan.wide() ? Backend::Chunked : runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
     plan.wholeStepMaxRows = config.wholeStepMaxRows;
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime);
-    plan.hostStepMaxRows = resolveHostStepMaxRows(config.hostStepMaxRows);
+    plan.hostStepMaxRows = resolveHostStepMaxRows(config.hostStepMaxRows, runtime);
+    plan.claimedLaunch = runtime.isCpu();
     return plan;
 }
 
@@ -79,10 +83,10 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
                        : solver.wide()             ? int(p.constraints.size()) <= kWholeStepMaxConstraintsWide
                                                    : double(p.numRows()) <= solver.autoWholeStepMaxRows;
     if (whole) return StepPlan::wholeStep(solver.lanes, passes);
-    // A split step on the serial path runs in one claimed launch (the per-set launches, about a
-    // hundred a step, each cost PoCL more than a small group's work; docs/performance.md); the wide
-    // path keeps one launch per set and pass until it is measured on a GPU.
-    return solver.wide() ? StepPlan::perSet(solver.lanes, passes) : StepPlan::claimed(passes);
+    // A split step on the serial path runs in one claimed launch on a CPU (the per-set launches,
+    // about a hundred a step, each cost PoCL more than a small group's work; docs/performance.md);
+    // the wide path, and the serial path on a GPU, launch once per set and pass.
+    return !solver.wide() && solver.claimedLaunch ? StepPlan::claimed(passes) : StepPlan::perSet(solver.lanes, passes);
 }
 
 }  // namespace btocl

@@ -17,6 +17,9 @@ struct SolverPlan {
     int wholeStepMaxRows = -1;           // the config's: -1 automatic, 0 never, n: steps of at most n rows
     double autoWholeStepMaxRows = 0;     // serial path, automatic: by the device's compute units
     long long hostStepMaxRows = -1;      // steps of at most this many rows on the host; -1: none
+    // The claimed launch's work-groups read what the others wrote through plain loads: a CPU's
+    // caches keep them coherent, a GPU's need not (on an H100 its results were off by up to 20%).
+    bool claimedLaunch = true;
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
 };
 

@@ -125,10 +125,11 @@ TEST_CASE("hostStepMaxRows and BT_OPENCL_HOST_STEPS choose where small steps are
         return w.openCL()->getLastStats().solvedOnHost;
     };
     {
-        // As the solver decides: a few boxes on the host, a large pyramid on the device.
+        // As the solver decides: a few boxes on the host, a large pyramid on the device (past
+        // a GPU's bound too: about 40K rows).
         ScopedEnv env("BT_OPENCL_HOST_STEPS", "auto");
         CHECK(onHost(btOpenCLSolverConfig{}, 3));
-        CHECK_FALSE(onHost(btOpenCLSolverConfig{}, 40));
+        CHECK_FALSE(onHost(btOpenCLSolverConfig{}, 60));
     }
     CHECK_FALSE(onHost(hostSteps(0), 3));       // never
     CHECK(onHost(hostSteps(1000000), 40));      // a bound above the step's rows

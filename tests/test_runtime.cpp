@@ -43,11 +43,13 @@ TEST_CASE("a kernel with a syntax error throws with the compiler's message", "[r
 }
 
 // The host asks a CPU's compiler for software prefetch (btocl_shared.h) and no other: the programs
-// must build either way, the GPU's way too, though the tests run on a CPU.
+// must build either way on a CPU, the GPU's way too, though the tests run on a CPU. A GPU's
+// compiler may refuse the prefetch (NVIDIA's does: a global pointer where it wants a generic one).
 TEST_CASE("the programs that prefetch on a CPU build with and without it", "[runtime]") {
     OclRuntime rt("");
     for (const char* file : {"solve.cl", "setup.cl", "arrange.cl"})
         for (const char* options : {"", "-DBTOCL_CPU_PREFETCH"}) {
+            if (*options && !rt.isCpu()) continue;
             INFO(file << " " << options);
             CHECK_NOTHROW(rt.buildProgramFile(file, options));
         }

@@ -42,7 +42,8 @@ struct btOpenCLSolverConfig {
     // A step this small is solved on the calling thread, without the device, with the same row
     // code and in the order of a whole step: there a device launch would cost more than the step's
     // work. -1: the solver decides (env BT_OPENCL_HOST_STEPS: "never", "always", else "auto", a
-    // threshold measured on PoCL, docs/performance.md); 0: never; n > 0: steps of at most n rows.
+    // threshold measured for the device's type, docs/performance.md); 0: never; n > 0: steps of
+    // at most n rows.
     int hostStepMaxRows = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
