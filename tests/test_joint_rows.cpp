@@ -260,7 +260,7 @@ public:
                               toVector3(b.externalTorqueImpulse));
         }
         // Our write-back, read, then undone: SI starts from the joints as they were.
-        btocl::writeBackJoints(g.joints, p.appliedImpulses.data() + base, info);  // not SI's member
+        btocl::writeBackJoints(g.joints, p.rows.data() + base, p.appliedImpulses.data() + base, info);  // not SI's member
         struct After {
             btScalar impulse;
             btJointFeedback feedback;

@@ -6,6 +6,8 @@
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
+#include <algorithm>
+
 namespace btocl {
 namespace {
 
@@ -28,11 +30,13 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
-    // The joints' rows, where the gather has set them up already: they follow the contact rows.
-    std::vector<btoclRow> jointRows;
-    if (p.rowsOnDevice) jointRows.swap(p.rows);
+    // The joints' rows, where the gather has set them up already (then `rows` holds them alone):
+    // they move up behind the contact rows, in the same array.
+    const size_t numJointRows = p.rowsOnDevice ? p.rows.size() : 0;
     const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
-    p.rows.assign(size_t(rollingBase), btoclRow{});
+    p.rows.resize(size_t(rollingBase) + numJointRows);
+    std::copy_backward(p.rows.begin(), p.rows.begin() + numJointRows, p.rows.end());
+    std::fill(p.rows.begin(), p.rows.begin() + rollingBase, btoclRow{});
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
     for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
@@ -82,12 +86,11 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     }
     p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
                                   int(rolling.size()), p.numJointRows());
-    p.rows.insert(p.rows.end(), rolling.begin(), rolling.end());
+    p.rows.insert(p.rows.begin() + rollingBase, rolling.begin(), rolling.end());
     // Rolling rows left out move the joints' rows down.
     const int jointShift = p.rowStart(BTOCL_ROWS_JOINT) - jointStart;
     for (btoclConstraint& c : p.constraints)
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) c.firstRow[BTOCL_ROWS_JOINT] += jointShift;
-    p.rows.insert(p.rows.end(), jointRows.begin(), jointRows.end());
     p.rowsOnDevice = false;
 }
 

@@ -39,6 +39,7 @@ struct StepJoint {
 struct JointRowSet {
     std::vector<StepJoint> joints;  // every constraint passed, in the order passed
     // The rows of all joints, joint after joint in that order (SI's m_tmpSolverNonContactConstraintPool).
+    // The gather moves them into the step's rows (StepProblem::rows), leaving this empty.
     std::vector<btoclRow> rows;
     // One per joint with rows, in the same order: rows [firstRow, firstRow + numRows) of kind
     // BTOCL_ROWS_JOINT index `rows` (no rows of other kinds); position.w is the joint's iteration

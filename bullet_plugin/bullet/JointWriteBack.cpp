@@ -7,7 +7,8 @@
 
 namespace btocl {
 
-void writeBackJoints(const JointRowSet& set, const float* appliedImpulses, const btContactSolverInfo& info) {
+void writeBackJoints(const JointRowSet& set, const btoclRow* rows, const float* appliedImpulses,
+                     const btContactSolverInfo& info) {
     const btScalar dt = info.m_timeStep;
     for (const StepJoint& j : set.joints) {
         btTypedConstraint& c = *j.constraint;
@@ -23,7 +24,7 @@ void writeBackJoints(const JointRowSet& set, const float* appliedImpulses, const
         const btRigidBody& rbA = c.getRigidBodyA();
         const btRigidBody& rbB = c.getRigidBodyB();
         for (int r = j.firstRow; r < j.firstRow + j.numRows; ++r) {
-            const btoclRow& row = set.rows[size_t(r)];
+            const btoclRow& row = rows[r];
             const btScalar impulse = appliedImpulses[r];
             if (fb) {
                 // Impulse over the step: the force and torque the row exerted on each body.

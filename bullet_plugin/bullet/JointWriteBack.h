@@ -12,7 +12,9 @@ namespace btocl {
 // For every joint of the set, rows or not: its btJointFeedback cleared and then summed over its
 // rows (force and torque on both bodies), its applied impulse (internalSetAppliedImpulse) that of
 // its last row, as SI leaves it, and the joint disabled when a row's final |impulse| reached its
-// breaking threshold. appliedImpulses[r]: the final impulse of set.rows[r].
-void writeBackJoints(const JointRowSet& set, const float* appliedImpulses, const btContactSolverInfo& info);
+// breaking threshold. rows[r] and appliedImpulses[r]: row r of the set (JointRowSet::rows, as the
+// gather placed them in the step's rows) and its final impulse.
+void writeBackJoints(const JointRowSet& set, const btoclRow* rows, const float* appliedImpulses,
+                     const btContactSolverInfo& info);
 
 }  // namespace btocl

@@ -65,7 +65,9 @@ void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btCon
 
 void writeBackStep(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     writeBackPoints(p, bullet, info);
-    writeBackJoints(bullet.joints, p.appliedImpulses.data() + p.rowStart(BTOCL_ROWS_JOINT), info);
+    const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
+    writeBackJoints(bullet.joints, p.rows.data() + (jointStart - p.hostRowBase()), p.appliedImpulses.data() + jointStart,
+                    info);
     writeBackBodies(p, bullet, info);
 }
 
