@@ -96,8 +96,18 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
     m_runtime.beginPhase(DevicePhase::Upload);
     m_solve.upload(p);
 
-    // The global split and local batches on the device, from the constraints just uploaded.
-    m_layout.build(m_solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(m_config), step);
+    // The global split on the host where it costs less than the device's launches, else with the
+    // local batches on the device, from the constraints just uploaded.
+    double msHostSplit = 0;
+    if (splitsOnHost(m_plan, p, step)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
+                      m_hostSplit);
+        msHostSplit = msSince(t0);
+        m_layout.upload(m_hostSplit, step);
+    } else {
+        m_layout.build(m_solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(m_config), step);
+    }
     DeviceLayoutView view;
     view.groups = &m_layout.groups().buffer();
     view.solveOrder = &m_layout.solveOrder().buffer();
@@ -121,6 +131,7 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
     s.numIterationsRun = m_solve.download(p, step, settings);  // the one wait
     m_runtime.endPhases();
     fillDeviceStats(s, p, step);
+    s.msSplit += msHostSplit;
 }
 
 // What the device did: its phases' times (profiling events), the layout's counts, the step's.

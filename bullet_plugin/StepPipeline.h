@@ -18,6 +18,7 @@
 #include "DevicePrimitives.h"
 #include "DeviceSolver.h"
 #include "HostSolve.h"
+#include "HostSplit.h"
 #include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
@@ -74,6 +75,7 @@ private:
     const DeviceLimits m_limits;
     DeviceSolver m_solve;
     DeviceLayout m_layout;
+    BatchLayout m_hostSplit;  // the split made on the host (splitsOnHost), read by the queue
     HostSolve m_hostSolve;
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset

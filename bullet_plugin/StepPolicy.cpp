@@ -11,15 +11,21 @@ namespace {
 // split and the sets' groups solved side by side would save less than they cost.
 // - Wide path (a GPU's): at most 1,024 constraints, a few batches of one work-group's lanes.
 // - Serial path (a CPU's, one work-item per group): the split spreads the solve over the compute
-//   units in one claimed launch. Measured on PoCL (docs/performance.md): the crossover, about 30K
-//   rows on 2 units, falls as units are added (the split saves a larger share), so the whole step
-//   takes at most 16K x units / (units - 1) rows, without limit on one unit.
+//   units in one claimed launch. Split on the host, it won over the whole step from the host
+//   steps' bound on (docs/performance.md): a whole step only on one unit. Split on the device
+//   (a GPU's serial path), the crossover measured on PoCL, about 30K rows on 2 units, falls as
+//   units are added, so the whole step takes at most 16K x units / (units - 1) rows.
 constexpr int kWholeStepMaxConstraintsWide = 1024;
+
+// The host's split against the device's on PoCL (2 cores, docs/performance.md): about 50 ns a
+// constraint on one core against 0.5 ms of launches and 35 ns on both.
+constexpr size_t kHostSplitMaxConstraints = 16384;
 constexpr double kWholeStepRowsPerUnitShare = 16384;
 
-double wholeStepMaxRowsSerial(const OclRuntime& runtime) {
+double wholeStepMaxRowsSerial(const OclRuntime& runtime, bool splitOnHost) {
     const double units = double(runtime.computeUnits());
     if (units <= 1) return std::numeric_limits<double>::infinity();
+    if (splitOnHost) return 0;
     return kWholeStepRowsPerUnitShare * units / (units - 1);
 }
 
@@ -70,9 +76,10 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     // which runs it for the tests, Boost.Compute's, so that they cover what a GPU may get.
     plan.sortAndScan = !plan.wide() ? Backend::Chunked : runtime.isCpu() ? Backend::BoostCompute : Backend::Auto;
     plan.wholeStepMaxRows = config.wholeStepMaxRows;
-    plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime);
     plan.hostStepMaxRows = resolveHostStepMaxRows(config.hostStepMaxRows, runtime);
     plan.claimedLaunch = runtime.isCpu();
+    plan.hostSplitMaxConstraints = runtime.isCpu() && !plan.wide() ? kHostSplitMaxConstraints : 0;
+    plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
     return plan;
 }
 
@@ -87,6 +94,10 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
     // about a hundred a step, each cost PoCL more than a small group's work; docs/performance.md);
     // the wide path, and the serial path on a GPU, launch once per set and pass.
     return !solver.wide() && solver.claimedLaunch ? StepPlan::claimed(passes) : StepPlan::perSet(solver.lanes, passes);
+}
+
+bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {
+    return !step.oneGroup() && !step.onHost() && !step.localBatches() && p.constraints.size() <= solver.hostSplitMaxConstraints;
 }
 
 }  // namespace btocl

@@ -20,6 +20,10 @@ struct SolverPlan {
     // The claimed launch's work-groups read what the others wrote through plain loads: a CPU's
     // caches keep them coherent, a GPU's need not (on an H100 its results were off by up to 20%).
     bool claimedLaunch = true;
+    // The serial path on a CPU device splits steps of at most this many constraints on the host
+    // (HostSplit.h): the device's split is a dozen launches, each a fixed cost on PoCL, for work
+    // the host does in less; past it the device's split, on every core, is faster. 0: never.
+    size_t hostSplitMaxConstraints = 0;
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
 };
 
@@ -32,5 +36,8 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
 // whole in one launch where the split would cost more than it saves; else split and launched as
 // the path does. And its passes.
 StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings);
+
+// Whether a step split as `step` says is split on the host (HostSplit.h) rather than the device.
+bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step);
 
 }  // namespace btocl

@@ -13,13 +13,6 @@
 namespace btocl {
 namespace {
 
-void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
-    if (body < 0 || size_t(body) >= numBodies)
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: constraint " + std::to_string(constraint) +
-                                  " names body " + std::to_string(body) + " but there are " +
-                                  std::to_string(numBodies) + " bodies");
-}
-
 // Each group's constraints reordered by batch; batch k of the group ends at batchEnd[offset + k].
 using GroupBatcher = void (*)(const std::vector<btoclConstraint>&, BatchLayout&, btoclGroup&, const SplitParams&, int);
 
@@ -132,65 +125,6 @@ BatchLayout buildWith(const std::vector<btoclConstraint>& constraints, const std
 }
 
 }  // namespace
-
-int splitKeyOfConstraint(const btoclConstraint& c, const btoclSplitGrid& g, const std::vector<unsigned char>& overflowBody) {
-    const int nb = int(overflowBody.size());
-    const bool overA = c.dynamicA && c.bodyA >= 0 && c.bodyA < nb && overflowBody[size_t(c.bodyA)];
-    const bool overB = c.dynamicB && c.bodyB >= 0 && c.bodyB < nb && overflowBody[size_t(c.bodyB)];
-    if (overA || overB) return g.overflowKey;
-    const int cx = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisU), g.originU, g.invCell, g.nx);
-    const int cy = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisV), g.originV, g.invCell, g.ny);
-    return btoclSplitKeyOfCell(g, cx, cy);
-}
-
-btoclSplitGrid makeSplitGridHost(const std::vector<btoclConstraint>& constraints, float baseCellSize) {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (const btoclConstraint& c : constraints) {
-        const float p[3] = {c.position.x, c.position.y, c.position.z};
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = fmin(lo[a], p[a]);
-            hi[a] = fmax(hi[a], p[a]);
-        }
-    }
-    return btoclMakeSplitGrid(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], baseCellSize);
-}
-
-BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
-                      const SplitParams& params) {
-    for (size_t i = 0; i < constraints.size(); ++i) {
-        checkBodyIndex(constraints[i].bodyA, bodies.size(), i);
-        checkBodyIndex(constraints[i].bodyB, bodies.size(), i);
-    }
-    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
-    BatchLayout layout;
-    const int n = int(constraints.size());
-    layout.solveOrder.resize(size_t(n));
-    layout.batchEnd.assign(size_t(n), 0);
-    if (n == 0) return layout;
-
-    const btoclSplitGrid grid = makeSplitGridHost(constraints, plan.baseCellSize);
-    layout.cellSize = grid.cellSize;
-    std::vector<int> keys(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) keys[size_t(i)] = splitKeyOfConstraint(constraints[size_t(i)], grid, plan.overflowBody);
-    // Stable counting sort by key: each group's constraints stay in index order.
-    std::vector<int> start(size_t(grid.overflowKey) + 2, 0);
-    for (int k : keys) ++start[size_t(k) + 1];
-    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int i = 0; i < n; ++i) layout.solveOrder[size_t(fill[size_t(keys[size_t(i)])]++)] = i;
-
-    int set = 0;
-    for (int key = 0; key <= grid.overflowKey; ++key) {
-        const int keySet = key == grid.overflowKey ? BTOCL_OVERFLOW_SET : key / grid.cellsPerSet;
-        while (set < keySet) layout.setGroupStart[size_t(++set)] = int(layout.groups.size());
-        const int count = start[size_t(key) + 1] - start[size_t(key)];
-        if (count == 0) continue;
-        layout.groups.push_back(btoclGroup{start[size_t(key)], count, 0, btoclSplitCellOfKey(grid, key)});
-    }
-    layout.setGroupStart[BTOCL_NUM_SETS + 1] = int(layout.groups.size());
-    layout.numOverflowConstraints = start[size_t(grid.overflowKey) + 1] - start[size_t(grid.overflowKey)];
-    return layout;
-}
 
 BatchLayout buildBatchesHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
                              const SplitParams& params) {

@@ -124,6 +124,35 @@ TEST_CASE("the device layout equals its host twin bit for bit and keeps every in
     }
 }
 
+// The serial path on a CPU device splits mid-sized steps on the host (HostSplit.h) and hands the
+// device the layout: it must be the device's own split, one run a group, to the bit.
+TEST_CASE("the serial path's split made on the host and uploaded is the device's", "[batching]") {
+    Fixture& f = fixture();
+    const StepPlan serial = StepPlan::perSet(GroupLanes::serial(), kNoPasses);
+    for (const BatchScene& scene : allScenes()) {
+        INFO(scene.name << ", " << scene.constraints.size() << " constraints");
+        f.constraints.write(f.rt, scene.constraints);
+        f.batcher.build(f.constraints, int(scene.constraints.size()), scene.bodies, SplitParams{}, serial);
+        const BatchLayout device = f.batcher.download();
+        const DeviceLayoutStats deviceStats = f.batcher.stats();
+        BatchLayout host;
+        splitHostInto(scene.constraints.data(), scene.constraints.size(), scene.bodies, SplitParams{}, true, host);
+        f.batcher.upload(host, serial);
+        const BatchLayout uploaded = f.batcher.download();
+        REQUIRE(uploaded.serialRuns);
+        CHECK(validateBatchLayout(uploaded, scene.constraints) == "");
+        requireSameLayout(device, uploaded);
+        for (const btoclGroup& g : device.groups) REQUIRE(g.numBatches == 1);
+        const DeviceLayoutStats& stats = f.batcher.stats();
+        CHECK(stats.numCellGroups == deviceStats.numCellGroups);
+        CHECK(stats.numOverflowConstraints == deviceStats.numOverflowConstraints);
+        CHECK(stats.cellSize == deviceStats.cellSize);
+        CHECK(stats.numBatchesMax == deviceStats.numBatchesMax);
+    }
+    BatchLayout batched = splitHost(allScenes().front().constraints, allScenes().front().bodies, SplitParams{});
+    CHECK_THROWS_AS(f.batcher.upload(batched, serial), btOpenCLSolverError);
+}
+
 TEST_CASE("other work-group sizes, round counts and a fixed cell give the host twin's layout", "[batching]") {
     const BatchScene scene = randomPile(1500, 7);
     struct Case {

@@ -238,3 +238,35 @@ TEST_CASE("a split step is claimed on the serial path of a CPU device alone", "[
     const OclRuntime rt("");
     CHECK(planSolver(btOpenCLSolverConfig(), rt).claimedLaunch == rt.isCpu());
 }
+
+// Split steps of the serial path on a CPU device are split on the host up to a bound; whole,
+// host and wide steps never.
+TEST_CASE("the host splits the serial path's mid-sized steps", "[solve][plan]") {
+    StepProblem p;
+    for (int k = 0; k <= BTOCL_NUM_ROW_KINDS; ++k) p.regions.start[k] = k == 0 ? 0 : 100000;
+    p.constraints.resize(1000);
+    const SolveSettings settings;
+    SolverPlan solver;
+    solver.path = btOpenCLSolvePath::Serial;
+    solver.lanes = GroupLanes::serial();
+    solver.wholeStepMaxRows = 0;
+    solver.hostStepMaxRows = -1;
+    solver.hostSplitMaxConstraints = 1000;
+    CHECK(splitsOnHost(solver, p, planStep(solver, p, settings)));
+    p.constraints.resize(1001);
+    CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
+    p.constraints.resize(10);
+    solver.wholeStepMaxRows = 1000000;
+    CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
+    solver.wholeStepMaxRows = 0;
+    solver.hostStepMaxRows = 1000000;
+    CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
+    solver.hostStepMaxRows = -1;
+    solver.path = btOpenCLSolvePath::Wide;
+    solver.lanes = GroupLanes::wide(64);
+    CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
+
+    const OclRuntime rt("");
+    const SolverPlan made = planSolver(btOpenCLSolverConfig(), rt);
+    CHECK((made.hostSplitMaxConstraints > 0) == (rt.isCpu() && !made.wide()));
+}

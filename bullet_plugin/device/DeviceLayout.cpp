@@ -104,6 +104,37 @@ void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n
     m_groups.enqueueRead(m_rt, m_groupsHost.data(), m_groupsHost.size());
 }
 
+void DeviceLayout::upload(const BatchLayout& layout, const StepPlan& plan) {
+    if (!layout.serialRuns || plan.localBatches())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a host split is taken with one run a group only");
+    const int n = int(layout.solveOrder.size());
+    m_localBatches = false;
+    m_setStartsOnDevice = plan.setStartsOnDevice();
+    m_n = n;
+    m_summaryPending = false;
+    m_groupsHost.clear();
+    m_stats = DeviceLayoutStats{};
+    m_stats.numConstraints = n;
+    m_stats.numCellGroups = layout.setGroupStart[BTOCL_NUM_SETS];
+    m_stats.numOverflowConstraints = layout.numOverflowConstraints;
+    m_stats.cellSize = layout.cellSize;
+    m_statsReady = false;
+    m_setGroupStart = layout.setGroupStart;
+    if (n == 0) return;
+    m_rt.beginPhase(DevicePhase::Split);
+    m_sorted.reserve(m_rt, size_t(n));
+    m_batchEnd.reserve(m_rt, size_t(n));
+    m_groups.reserve(m_rt, layout.groups.size());
+    m_sorted.enqueueWrite(m_rt, layout.solveOrder);
+    m_batchEnd.enqueueWrite(m_rt, layout.batchEnd);
+    m_groups.enqueueWrite(m_rt, layout.groups.data(), layout.groups.size());
+    if (m_setStartsOnDevice) {
+        m_summary.reserve(m_rt, kSummaryInts);
+        std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
+        m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
+    }
+}
+
 // Every constraint in group 0 of set 0, in gather order.
 void DeviceLayout::layOutOneGroup(int n) {
     m_identityHost.resize(size_t(n));

@@ -44,6 +44,11 @@ public:
     void build(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,
                const SplitParams& params, const StepPlan& plan);
 
+    // Takes a split made on the host (HostSplit.h) with one run a group, for a plan without local
+    // batches: uploads it where build() would have left the device's. `layout` must live, unchanged,
+    // until the queue has finished. Throws btOpenCLSolverError for a layout with batches.
+    void upload(const BatchLayout& layout, const StepPlan& plan);
+
     // The layout of the last build, on the device (valid until the next build).
     const DeviceBuffer<int>& solveOrder() const { return m_localBatches ? m_solveOrder : m_sorted; }
     const DeviceBuffer<int>& batchEnd() const { return m_batchEnd; }

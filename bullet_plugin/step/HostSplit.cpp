@@ -1,0 +1,94 @@
+#include "HostSplit.h"
+
+#include "btOpenCLSolverError.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace btocl {
+namespace {
+
+void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
+    if (body < 0 || size_t(body) >= numBodies)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: constraint " + std::to_string(constraint) +
+                                  " names body " + std::to_string(body) + " but there are " +
+                                  std::to_string(numBodies) + " bodies");
+}
+
+}  // namespace
+
+int splitKeyOfConstraint(const btoclConstraint& c, const btoclSplitGrid& g, const std::vector<unsigned char>& overflowBody) {
+    const int nb = int(overflowBody.size());
+    const bool overA = c.dynamicA && c.bodyA >= 0 && c.bodyA < nb && overflowBody[size_t(c.bodyA)];
+    const bool overB = c.dynamicB && c.bodyB >= 0 && c.bodyB < nb && overflowBody[size_t(c.bodyB)];
+    if (overA || overB) return g.overflowKey;
+    const int cx = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisU), g.originU, g.invCell, g.nx);
+    const int cy = btoclSplitCellCoord(BTOCL_AXIS(c.position, g.axisV), g.originV, g.invCell, g.ny);
+    return btoclSplitKeyOfCell(g, cx, cy);
+}
+
+btoclSplitGrid makeSplitGridHost(const btoclConstraint* constraints, size_t n, float baseCellSize) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < n; ++i) {
+        const btoclConstraint& c = constraints[i];
+        const float p[3] = {c.position.x, c.position.y, c.position.z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::fmin(lo[a], p[a]);
+            hi[a] = std::fmax(hi[a], p[a]);
+        }
+    }
+    return btoclMakeSplitGrid(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], baseCellSize);
+}
+
+void splitHostInto(const btoclConstraint* constraints, size_t count, const std::vector<SplitBody>& bodies,
+                   const SplitParams& params, bool serialRuns, BatchLayout& layout) {
+    for (size_t i = 0; i < count; ++i) {
+        checkBodyIndex(constraints[i].bodyA, bodies.size(), i);
+        checkBodyIndex(constraints[i].bodyB, bodies.size(), i);
+    }
+    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    const int n = int(count);
+    layout.solveOrder.resize(size_t(n));
+    layout.batchEnd.assign(size_t(n), 0);
+    layout.groups.clear();
+    layout.setGroupStart.fill(0);
+    layout.cellSize = 0;
+    layout.numOverflowConstraints = 0;
+    layout.serialRuns = serialRuns;
+    if (n == 0) return;
+
+    const btoclSplitGrid grid = makeSplitGridHost(constraints, count, plan.baseCellSize);
+    layout.cellSize = grid.cellSize;
+    // Stable counting sort by key: each group's constraints stay in index order. The keys are
+    // kept in batchEnd until the runs are written over them.
+    std::vector<int>& keys = layout.batchEnd;
+    for (int i = 0; i < n; ++i) keys[size_t(i)] = splitKeyOfConstraint(constraints[i], grid, plan.overflowBody);
+    std::vector<int> start(size_t(grid.overflowKey) + 2, 0);
+    for (int i = 0; i < n; ++i) ++start[size_t(keys[size_t(i)]) + 1];
+    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int i = 0; i < n; ++i) layout.solveOrder[size_t(fill[size_t(keys[size_t(i)])]++)] = i;
+    std::fill(keys.begin(), keys.end(), 0);
+
+    int set = 0;
+    for (int key = 0; key <= grid.overflowKey; ++key) {
+        const int keySet = key == grid.overflowKey ? BTOCL_OVERFLOW_SET : key / grid.cellsPerSet;
+        while (set < keySet) layout.setGroupStart[size_t(++set)] = int(layout.groups.size());
+        const int first = start[size_t(key)], size = start[size_t(key) + 1] - first;
+        if (size == 0) continue;
+        layout.groups.push_back(btoclGroup{first, size, serialRuns ? 1 : 0, btoclSplitCellOfKey(grid, key)});
+        if (serialRuns) layout.batchEnd[size_t(first)] = first + size;
+    }
+    layout.setGroupStart[BTOCL_NUM_SETS + 1] = int(layout.groups.size());
+    layout.numOverflowConstraints = start[size_t(grid.overflowKey) + 1] - start[size_t(grid.overflowKey)];
+}
+
+BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
+                      const SplitParams& params) {
+    BatchLayout layout;
+    splitHostInto(constraints.data(), constraints.size(), bodies, params, false, layout);
+    return layout;
+}
+
+}  // namespace btocl
