@@ -761,8 +761,12 @@ TEST_CASE("parity: random scenes of every joint type stay as SI's", "[parity][jo
     REQUIRE(allFinite(p.ours));
     if (const btOpenCLConstraintSolver* solver = p.ours.openCL()) {  // the path the scene's size asks for
         const btOpenCLSolverStats& stats = solver->getLastStats();
-        CHECK((stats.solvedWholeStep || stats.solvedOnHost) == (c.clusters <= 22));  // one group
-        if (c.clusters > 22) CHECK(stats.numGroups > 100);
+        // The small scenes in one group; the large one split, unless a GPU's host takes it
+        // (its bound is 16,384 rows, a CPU device's 3,584).
+        const bool hostTakesIt = stats.solvedOnHost && stats.numConstraintRows <= 16384;
+        if (c.clusters <= 22) CHECK((stats.solvedWholeStep || stats.solvedOnHost));
+        if (c.clusters > 22) CHECK((hostTakesIt || stats.numGroups > 100));
+        if (c.clusters > 22) CHECK_FALSE(stats.solvedWholeStep);
     }
 
     const std::string name = "random " + std::to_string(seed) + ": ";
