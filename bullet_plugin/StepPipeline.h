@@ -76,6 +76,7 @@ private:
     DeviceSolver m_solve;
     DeviceLayout m_layout;
     BatchLayout m_hostSplit;  // the split made on the host (splitsOnHost), read by the queue
+    HostArrangement m_hostArrangement;  // and its arrangement, likewise
     HostSolve m_hostSolve;
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset

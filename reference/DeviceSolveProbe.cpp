@@ -16,6 +16,13 @@ DeviceLayoutView DeviceSolveProbe::uploadLayout(const BatchLayout& layout) {
     return view;
 }
 
+HostArrangement DeviceSolveProbe::downloadArrangement(const DeviceSolver& solver, const StepProblem& p) {
+    HostArrangement a;
+    a.placed = solver.m_placed.read(solver.m_rt, p.constraints.size());
+    a.rowMap = solver.m_rowMap.read(solver.m_rt, size_t(p.numRows()));
+    return a;
+}
+
 std::vector<btoclRow> DeviceSolveProbe::downloadRows(const DeviceSolver& solver, const StepProblem& p) {
     const OclRuntime& rt = solver.m_rt;
     const size_t n = size_t(p.numRows());

@@ -21,6 +21,9 @@ public:
     // side without a rigid body.
     static std::vector<btoclRow> downloadRows(const DeviceSolver& solver, const StepProblem& p);
 
+    // The constraints in solve order and the rows' places, as `solver`'s arrangement left them.
+    static HostArrangement downloadArrangement(const DeviceSolver& solver, const StepProblem& p);
+
 private:
     const OclRuntime& m_rt;
     DeviceBuffer<btoclGroup> m_groups;

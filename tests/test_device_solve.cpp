@@ -2,6 +2,7 @@
 // gathered from a real world: the same iterations to rounding, and the same stop on a residual.
 #include "DeviceLayout.h"
 #include "GatherAndSolve.h"
+#include "HostArrange.h"
 #include "LayoutValidator.h"
 #include "HostSolve.h"
 #include "JointScenes.h"
@@ -269,4 +270,42 @@ TEST_CASE("the host splits the serial path's mid-sized steps", "[solve][plan]") 
     const OclRuntime rt("");
     const SolverPlan made = planSolver(btOpenCLSolverConfig(), rt);
     CHECK((made.hostSplitMaxConstraints > 0) == (rt.isCpu() && !made.wide()));
+}
+
+// The host's arrangement of a split it made (HostArrange.h) is the device's (kernels/arrange.cl)
+// to the bit: constraints in solve order with their rows' first places, and each row's place.
+TEST_CASE("the host arranges constraints and rows as the device does", "[solve]") {
+    World w(SolverKind::Reference);
+    groundAndPile(w, 64);
+    testworld::addChain(w, btVector3(8, 12, 0), 10, 3);
+    btContactSolverInfo info = w.stepInfo();
+    info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    for (int i = 0; i < 30; ++i) w.step();
+    for (const RowSetup setup : {RowSetup::Host, RowSetup::Device}) {
+        StepProblem p = gatherProblem(w, info, setup);
+        REQUIRE(p.numJointRows() > 0);
+        REQUIRE(p.numContactPoints() > 50);
+        const int n = int(p.constraints.size());
+        BatchLayout layout = buildSerialLayout(n);
+        // An order that moves the constraints about: the even ones first, then the odd ones reversed.
+        std::vector<int> order;
+        for (int i = 0; i < n; i += 2) order.push_back(i);
+        for (int i = n - 1; i >= 0; --i)
+            if (i % 2 == 1) order.push_back(i);
+        REQUIRE(int(order.size()) == n);
+        layout.solveOrder = order;
+
+        OclRuntime rt("");
+        DevicePrimitives primitives(rt, testBackend());
+        DeviceSolver solver(rt, primitives);
+        DeviceSolveProbe probe(rt);
+        solver.upload(p);
+        solver.arrange(p, probe.uploadLayout(layout));
+        const HostArrangement device = DeviceSolveProbe::downloadArrangement(solver, p);
+        HostArrangement host;
+        arrangeOnHost(layout.solveOrder.data(), p.constraints.data(), n, p.regions, host);
+        REQUIRE(host.placed.size() == device.placed.size());
+        CHECK(std::memcmp(host.placed.data(), device.placed.data(), host.placed.size() * sizeof(btoclConstraint)) == 0);
+        CHECK(host.rowMap == device.rowMap);
+    }
 }

@@ -44,7 +44,7 @@ void DeviceSolver::upload(const StepProblem& p) {
     m_hostRows.enqueueWrite(m_rt, p.rows);
 }
 
-void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
+void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const HostArrangement* onHost) {
     const int n = int(p.constraints.size());
     const int numRows = p.numRows();
     m_placed.reserve(m_rt, size_t(n));
@@ -56,15 +56,21 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout) {
     m_applied.reserve(m_rt, size_t(numRows));
     m_pushApplied.reserve(m_rt, size_t(numRows));
     if (n == 0) return;
-    // Row offsets in solve order, per region: a count per position, then an exclusive scan.
-    setArgs(m_countRows, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), m_frictionRowBase.buffer(), n);
-    m_rt.launch(m_countRows, size_t(n), kLanes, "launching countRowsInSolveOrder");
-    m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
-    m_primitives.exclusiveScan(m_frictionRowBase.buffer(), m_frictionRowBase.buffer(), size_t(n));
-    const int frictionRegion = btoclFrictionRegionStart(&p.regions);
-    setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(),
-            m_frictionRowBase.buffer(), frictionRegion, m_placed.buffer(), m_rowMap.buffer(), n);
-    m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
+    if (onHost) {
+        m_placed.enqueueWrite(m_rt, onHost->placed);
+        m_rowMap.enqueueWrite(m_rt, onHost->rowMap);
+    } else {
+        // Row offsets in solve order, per region: a count per position, then an exclusive scan.
+        setArgs(m_countRows, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(), m_frictionRowBase.buffer(),
+                n);
+        m_rt.launch(m_countRows, size_t(n), kLanes, "launching countRowsInSolveOrder");
+        m_primitives.exclusiveScan(m_rowBase.buffer(), m_rowBase.buffer(), size_t(n));
+        m_primitives.exclusiveScan(m_frictionRowBase.buffer(), m_frictionRowBase.buffer(), size_t(n));
+        const int frictionRegion = btoclFrictionRegionStart(&p.regions);
+        setArgs(m_placeConstraints, *layout.solveOrder, m_constraints.buffer(), m_rowBase.buffer(),
+                m_frictionRowBase.buffer(), frictionRegion, m_placed.buffer(), m_rowMap.buffer(), n);
+        m_rt.launch(m_placeConstraints, size_t(n), kLanes, "launching placeConstraints");
+    }
 
     if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'
         setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase(), m_rowMap.buffer(), m_rows.buffer(),

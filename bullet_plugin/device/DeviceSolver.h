@@ -6,6 +6,7 @@
 
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
+#include "HostArrange.h"
 #include "KernelWarmUp.h"
 #include "SolveSettings.h"
 #include "StepPlan.h"
@@ -34,8 +35,9 @@ public:
     // be all zero, as the gather leaves them: the solve adds to them.
     void upload(const StepProblem& p);
     // Places constraints and rows in the layout's solve order and sets the rows up there
-    // (kernels/arrange.cl, kernels/setup.cl).
-    void arrange(StepProblem& p, const DeviceLayoutView& layout);
+    // (kernels/arrange.cl, kernels/setup.cl). With `onHost`, the places are that arrangement's,
+    // uploaded (it must live, unchanged, until the queue has finished).
+    void arrange(StepProblem& p, const DeviceLayoutView& layout, const HostArrangement* onHost = nullptr);
     // Enqueues the plan's passes, launched as its mode says.
     void iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
