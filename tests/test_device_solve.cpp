@@ -215,24 +215,44 @@ TEST_CASE("joints that ask for more iterations than the contacts get are solved 
     CHECK(worst < 1e-4f);  // as above: fused multiply-adds on the device
 }
 
-// The claimed launch's work-groups read each other's writes with plain loads, which a GPU's
-// caches need not keep coherent: on an H100 its results were off from this reference by up to
-// 20% (tests above). So a split step on the serial path is claimed on a CPU device alone.
-TEST_CASE("a split step is claimed on the serial path of a CPU device alone", "[solve][plan]") {
+namespace {
+
+// A step of 100,000 rows, for the plans: no constraint record is read.
+StepProblem problemOfRows() {
     StepProblem p;
     for (int k = 0; k <= BTOCL_NUM_ROW_KINDS; ++k) p.regions.start[k] = k == 0 ? 0 : 100000;
-    const SolveSettings settings;
+    return p;
+}
+
+// The serial path's plan, every device step split, no step on the host.
+SolverPlan serialSplitting() {
     SolverPlan solver;
     solver.path = btOpenCLSolvePath::Serial;
     solver.lanes = GroupLanes::serial();
     solver.wholeStepMaxRows = 0;
     solver.hostStepMaxRows = -1;
+    return solver;
+}
+
+void makeWide(SolverPlan& solver) {
+    solver.path = btOpenCLSolvePath::Wide;
+    solver.lanes = GroupLanes::wide(64);
+}
+
+}  // namespace
+
+// The claimed launch's work-groups read each other's writes with plain loads, which a GPU's
+// caches need not keep coherent: on an H100 its results were off from this reference by up to
+// 20% (tests above). So a split step on the serial path is claimed on a CPU device alone.
+TEST_CASE("a split step is claimed on the serial path of a CPU device alone", "[solve][plan]") {
+    const StepProblem p = problemOfRows();
+    const SolveSettings settings;
+    SolverPlan solver = serialSplitting();
     solver.claimedLaunch = true;
     CHECK(planStep(solver, p, settings).mode() == StepMode::Claimed);
     solver.claimedLaunch = false;
     CHECK(planStep(solver, p, settings).mode() == StepMode::PerSet);
-    solver.path = btOpenCLSolvePath::Wide;
-    solver.lanes = GroupLanes::wide(64);
+    makeWide(solver);
     solver.claimedLaunch = true;
     CHECK(planStep(solver, p, settings).mode() == StepMode::PerSet);
 
@@ -243,15 +263,10 @@ TEST_CASE("a split step is claimed on the serial path of a CPU device alone", "[
 // Split steps of the serial path on a CPU device are split on the host up to a bound; whole,
 // host and wide steps never.
 TEST_CASE("the host splits the serial path's mid-sized steps", "[solve][plan]") {
-    StepProblem p;
-    for (int k = 0; k <= BTOCL_NUM_ROW_KINDS; ++k) p.regions.start[k] = k == 0 ? 0 : 100000;
+    StepProblem p = problemOfRows();
     p.constraints.resize(1000);
     const SolveSettings settings;
-    SolverPlan solver;
-    solver.path = btOpenCLSolvePath::Serial;
-    solver.lanes = GroupLanes::serial();
-    solver.wholeStepMaxRows = 0;
-    solver.hostStepMaxRows = -1;
+    SolverPlan solver = serialSplitting();
     solver.hostSplitMaxConstraints = 1000;
     CHECK(splitsOnHost(solver, p, planStep(solver, p, settings)));
     p.constraints.resize(1001);
@@ -263,8 +278,7 @@ TEST_CASE("the host splits the serial path's mid-sized steps", "[solve][plan]") 
     solver.hostStepMaxRows = 1000000;
     CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
     solver.hostStepMaxRows = -1;
-    solver.path = btOpenCLSolvePath::Wide;
-    solver.lanes = GroupLanes::wide(64);
+    makeWide(solver);
     CHECK_FALSE(splitsOnHost(solver, p, planStep(solver, p, settings)));
 
     const OclRuntime rt("");
