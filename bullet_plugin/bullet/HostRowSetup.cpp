@@ -31,12 +31,12 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
     // The joints' rows, where the gather has set them up already (then `rows` holds them alone):
-    // they move up behind the contact rows, in the same array.
+    // they move up behind the contact rows, in the same array. Every normal and friction row is
+    // written below, over whatever the move left there.
     const size_t numJointRows = p.rowsOnDevice ? p.rows.size() : 0;
     const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
     p.rows.resize(size_t(rollingBase) + numJointRows);
     std::copy_backward(p.rows.begin(), p.rows.begin() + numJointRows, p.rows.end());
-    std::fill(p.rows.begin(), p.rows.begin() + rollingBase, btoclRow{});
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
     for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
