@@ -16,10 +16,6 @@ namespace {
 //   (a GPU's serial path), the crossover measured on PoCL, about 30K rows on 2 units, falls as
 //   units are added, so the whole step takes at most 16K x units / (units - 1) rows.
 constexpr int kWholeStepMaxConstraintsWide = 1024;
-
-// The host's split against the device's on PoCL (2 cores, docs/performance.md): about 50 ns a
-// constraint on one core against 0.5 ms of launches and 35 ns on both.
-constexpr size_t kHostSplitMaxConstraints = 16384;
 constexpr double kWholeStepRowsPerUnitShare = 16384;
 
 double wholeStepMaxRowsSerial(const OclRuntime& runtime, bool splitOnHost) {
@@ -28,6 +24,10 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime, bool splitOnHost) {
     if (splitOnHost) return 0;
     return kWholeStepRowsPerUnitShare * units / (units - 1);
 }
+
+// The host's split against the device's on PoCL (2 cores, docs/performance.md): about 50 ns a
+// constraint on one core against 0.5 ms of launches and 35 ns on both.
+constexpr size_t kHostSplitMaxConstraints = 16384;
 
 // Steps of at most this many rows are solved on the host when the solver decides (measured
 // against the device's whole and split steps, docs/performance.md). A CPU device solves on the
@@ -97,7 +97,8 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
 }
 
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {
-    return !step.oneGroup() && !step.onHost() && !step.localBatches() && p.constraints.size() <= solver.hostSplitMaxConstraints;
+    return !step.oneGroup() && !step.onHost() && !step.localBatches() &&
+           p.constraints.size() <= solver.hostSplitMaxConstraints;
 }
 
 }  // namespace btocl

@@ -76,14 +76,7 @@ void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n
     if (n < 0 || size_t(n) > constraints.capacity())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: " + std::to_string(n) +
                                   " constraints asked of a buffer of " + std::to_string(constraints.capacity()));
-    m_localBatches = plan.localBatches();
-    m_setStartsOnDevice = plan.setStartsOnDevice();
-    m_n = n;
-    m_summaryPending = false;
-    m_setGroupStart.fill(0);
-    m_stats = DeviceLayoutStats{};
-    m_statsReady = false;
-    m_groupsHost.clear();
+    startLayout(plan, n);
     if (n == 0) return;
     m_rt.beginPhase(DevicePhase::Split);
     for (DeviceBuffer<int>* b : {&m_sorted, &m_solveOrder, &m_batchEnd}) b->reserve(m_rt, size_t(n));
@@ -92,7 +85,6 @@ void DeviceLayout::build(const DeviceBuffer<btoclConstraint>& constraints, int n
         layOutOneGroup(n);
     else
         split(constraints, n, bodies, params);
-    m_stats.numConstraints = n;
     if (!m_localBatches) return;  // the split (or the one group) wrote one run per group
     m_rt.beginPhase(DevicePhase::Batch);
     BatchProgram& batch = batchProgram(params.workGroupSize);
@@ -108,31 +100,36 @@ void DeviceLayout::upload(const BatchLayout& layout, const StepPlan& plan) {
     if (!layout.serialRuns || plan.localBatches())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a host split is taken with one run a group only");
     const int n = int(layout.solveOrder.size());
-    m_localBatches = false;
-    m_setStartsOnDevice = plan.setStartsOnDevice();
-    m_n = n;
-    m_summaryPending = false;
-    m_groupsHost.clear();
-    m_stats = DeviceLayoutStats{};
-    m_stats.numConstraints = n;
+    startLayout(plan, n);
+    m_setGroupStart = layout.setGroupStart;
     m_stats.numCellGroups = layout.setGroupStart[BTOCL_NUM_SETS];
     m_stats.numOverflowConstraints = layout.numOverflowConstraints;
     m_stats.cellSize = layout.cellSize;
-    m_statsReady = false;
-    m_setGroupStart = layout.setGroupStart;
     if (n == 0) return;
     m_rt.beginPhase(DevicePhase::Split);
-    m_sorted.reserve(m_rt, size_t(n));
-    m_batchEnd.reserve(m_rt, size_t(n));
-    m_groups.reserve(m_rt, layout.groups.size());
     m_sorted.enqueueWrite(m_rt, layout.solveOrder);
     m_batchEnd.enqueueWrite(m_rt, layout.batchEnd);
-    m_groups.enqueueWrite(m_rt, layout.groups.data(), layout.groups.size());
-    if (m_setStartsOnDevice) {
-        m_summary.reserve(m_rt, kSummaryInts);
-        std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
-        m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
-    }
+    m_groups.enqueueWrite(m_rt, layout.groups);
+    if (m_setStartsOnDevice) writeSetStarts();
+}
+
+// What every layout starts from: the plan's, nothing taken from the last step.
+void DeviceLayout::startLayout(const StepPlan& plan, int n) {
+    m_localBatches = plan.localBatches();
+    m_setStartsOnDevice = plan.setStartsOnDevice();
+    m_n = n;
+    m_summaryPending = false;
+    m_setGroupStart.fill(0);
+    m_stats = DeviceLayoutStats{};
+    m_stats.numConstraints = n;
+    m_statsReady = false;
+    m_groupsHost.clear();
+}
+
+// The set starts the host knows, for a launch that reads them on the device.
+void DeviceLayout::writeSetStarts() {
+    std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
+    m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
 }
 
 // Every constraint in group 0 of set 0, in gather order.
@@ -145,10 +142,7 @@ void DeviceLayout::layOutOneGroup(int n) {
     if (!m_localBatches) m_batchEnd.fill(m_rt, n, 1);
     m_setGroupStart.fill(1);
     m_setGroupStart[0] = 0;
-    if (m_setStartsOnDevice) {
-        std::copy(m_setGroupStart.begin(), m_setGroupStart.end(), m_summaryHost.begin());
-        m_summary.enqueueWrite(m_rt, m_summaryHost.data(), m_setGroupStart.size());
-    }
+    if (m_setStartsOnDevice) writeSetStarts();
 }
 
 void DeviceLayout::takeSummary(const int* summary) const {

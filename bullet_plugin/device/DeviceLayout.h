@@ -81,6 +81,8 @@ private:
     };
     BatchProgram& batchProgram(int workGroupSize);
     size_t boundsParts() const;
+    void startLayout(const StepPlan& plan, int n);
+    void writeSetStarts();
     void layOutOneGroup(int n);
     void takeSummary(const int* summary) const;
     void split(const DeviceBuffer<btoclConstraint>& constraints, int n, const std::vector<SplitBody>& bodies,

@@ -60,16 +60,14 @@ void splitHostInto(const btoclConstraint* constraints, size_t count, const std::
 
     const btoclSplitGrid grid = makeSplitGridHost(constraints, count, plan.baseCellSize);
     layout.cellSize = grid.cellSize;
-    // Stable counting sort by key: each group's constraints stay in index order. The keys are
-    // kept in batchEnd until the runs are written over them.
-    std::vector<int>& keys = layout.batchEnd;
+    // Stable counting sort by key: each group's constraints stay in index order.
+    std::vector<int> keys(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) keys[size_t(i)] = splitKeyOfConstraint(constraints[i], grid, plan.overflowBody);
     std::vector<int> start(size_t(grid.overflowKey) + 2, 0);
-    for (int i = 0; i < n; ++i) ++start[size_t(keys[size_t(i)]) + 1];
+    for (int key : keys) ++start[size_t(key) + 1];
     for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (int i = 0; i < n; ++i) layout.solveOrder[size_t(fill[size_t(keys[size_t(i)])]++)] = i;
-    std::fill(keys.begin(), keys.end(), 0);
 
     int set = 0;
     for (int key = 0; key <= grid.overflowKey; ++key) {
