@@ -25,14 +25,14 @@ double wholeStepMaxRowsSerial(const OclRuntime& runtime, bool splitOnHost) {
     return kWholeStepRowsPerUnitShare * units / (units - 1);
 }
 
-// The host's split against the device's on PoCL (2 cores, docs/performance.md): about 50 ns a
-// constraint on one core against 0.5 ms of launches and 35 ns on both.
+// The host's split against the device's on PoCL: the host's costs a constraint more, the
+// device's a fixed sum of launches (docs/performance.md, "The split on the host").
 constexpr size_t kHostSplitMaxConstraints = 16384;
 
 // Steps of at most this many rows are solved on the host when the solver decides (measured
 // against the device's whole and split steps, docs/performance.md). A CPU device solves on the
 // host's own cores, so it wins early; a GPU pays more a launch and runs a whole step in one
-// work-group's lanes: on an H100 the host won to about 20K rows.
+// work-group's lanes (docs/performance.md, "On a GPU").
 constexpr long long kHostStepMaxRowsCpu = 3584;
 constexpr long long kHostStepMaxRowsGpu = 16384;
 

@@ -18,7 +18,7 @@ struct SolverPlan {
     double autoWholeStepMaxRows = 0;     // serial path, automatic: by the device's compute units
     long long hostStepMaxRows = -1;      // steps of at most this many rows on the host; -1: none
     // The claimed launch's work-groups read what the others wrote through plain loads: a CPU's
-    // caches keep them coherent, a GPU's need not (on an H100 its results were off by up to 20%).
+    // caches keep them coherent, a GPU's need not (docs/performance.md, "On a GPU").
     bool claimedLaunch = true;
     // The serial path on a CPU device splits steps of at most this many constraints on the host
     // (HostSplit.h): the device's split is a dozen launches, each a fixed cost on PoCL, for work

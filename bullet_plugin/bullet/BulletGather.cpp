@@ -204,8 +204,8 @@ void StepGatherer::addJointRows() {
         p.constraints.push_back(c);
         m_bullet.manifoldOfConstraint.push_back(nullptr);
     }
-    // The rows move where no contact row is set up on the host yet (a joint-heavy step copied
-    // them for a tenth of its gather).
+    // The rows move where no contact row is set up on the host yet: a copy of them was a large
+    // part of a joint-heavy step's gather.
     std::vector<btoclRow>& rows = m_bullet.joints.rows;
     if (p.rows.empty())
         p.rows.swap(rows);

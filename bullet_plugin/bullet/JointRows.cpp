@@ -31,7 +31,7 @@ btScalar fillRowsFromJoint(btTypedConstraint& joint, int numRows, const btContac
                            btConstraintArray& scratch) {
     scratch.resizeNoInitialize(numRows);
     // What getInfo2 may write, through the info's pointers, and rowFromJoint reads: cleared field
-    // by field (a memset of the whole row, as SI's, was a fifth of this loop's time).
+    // by field (a memset of the whole row, as SI's, was a large share of this loop's time).
     for (int j = 0; j < numRows; ++j) {
         btSolverConstraint& row = scratch[j];
         row.m_contactNormal1.setZero();
