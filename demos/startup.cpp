@@ -4,8 +4,11 @@
 // slowest step against the run's median step, and the first step with contacts.
 //   startup --scene drop           one run in the current PoCL cache
 //   startup --cold-warm            for each scene, a child process with POCL_CACHE_DIR set to a
-//                                  fresh empty directory (cold), then another on the same
-//                                  directory (warm); both runs' JSON in one object
+//                                  fresh empty directory (cold: programs from the binaries the
+//                                  build made, where it made them), then another on the same
+//                                  directory (warm), then one on another fresh directory with
+//                                  BT_OPENCL_KERNEL_BINARIES=off (cold_compiled: a machine the
+//                                  build's binaries do not serve); the runs' JSON in one object
 //   startup --kernels              the solver's parts apart, in the current PoCL cache: the
 //                                  runtime, the programs built, then each kernel's warm-up launch
 //                                  timed on its own (its compile, with an empty cache); with
@@ -139,6 +142,8 @@ Json runOnce(const std::string& scene, int boxes, bool bullet) {
     out["solver"] = ours ? "btOpenCLConstraintSolver" : "btSequentialImpulseConstraintSolver";
     if (ours) out["device"] = ours->getDeviceName();
     out["pocl_cache_dir"] = cacheDir ? cacheDir : "(default)";
+    const char* binaries = std::getenv("BT_OPENCL_KERNEL_BINARIES");
+    out["kernel_binaries"] = binaries ? binaries : "(the build's)";
     out["construct_ms"] = rounded(msConstruct);
     out["first_second_steps_ms"] = rounded(firstSecond);
     out["construct_plus_first_second_ms"] = rounded(msConstruct + firstSecond);
@@ -182,7 +187,7 @@ Json kernelTimes(bool withBoost) {
     }
     Json programs = Json::array();
     for (const btocl::OclRuntime::ProgramBuild& b : pipeline.runtime().programBuilds())
-        programs.push_back({{"program", b.name}, {"ms", rounded(b.ms)}});
+        programs.push_back({{"program", b.name}, {"ms", rounded(b.ms)}, {"from_binary", b.fromBinary}});
     const char* cacheDir = std::getenv("POCL_CACHE_DIR");
     Json out;
     out["device"] = pipeline.runtime().deviceName();
@@ -212,10 +217,12 @@ Json kernelTimes(bool withBoost) {
     return out;
 }
 
-// Runs this program again for one scene (single mode) with POCL_CACHE_DIR=dir, its stdout read
-// through a pipe (its stderr is ours); `result` gets the JSON it printed, or null when that does
-// not parse. Returns its exit status, 1 when it exited 0 but printed no JSON.
-int runChild(const char* self, const std::string& dir, const std::string& scene, int boxes, Json& result) {
+// Runs this program again for one scene (single mode) with POCL_CACHE_DIR=dir (and, with
+// `compiled`, BT_OPENCL_KERNEL_BINARIES=off), its stdout read through a pipe (its stderr is
+// ours); `result` gets the JSON it printed, or null when that does not parse. Returns its exit
+// status, 1 when it exited 0 but printed no JSON.
+int runChild(const char* self, const std::string& dir, bool compiled, const std::string& scene, int boxes,
+             Json& result) {
     int fds[2];
     if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
     const pid_t pid = fork();
@@ -229,6 +236,7 @@ int runChild(const char* self, const std::string& dir, const std::string& scene,
         close(fds[0]);
         close(fds[1]);
         setenv("POCL_CACHE_DIR", dir.c_str(), 1);
+        if (compiled) setenv("BT_OPENCL_KERNEL_BINARIES", "off", 1);
         const std::string boxesText = std::to_string(boxes);
         execl(self, self, "--scene", scene.c_str(), "--boxes", boxesText.c_str(), static_cast<char*>(nullptr));
         _exit(127);
@@ -274,7 +282,8 @@ int main(int argc, char** argv) {
                  "scene whose contacts start later for two seconds at 60 Hz, each step timed. Prints JSON.",
                  "startup");
     app.add_flag("--cold-warm", coldWarm,
-                 "per scene, two runs in child processes: cold (a fresh POCL_CACHE_DIR), then warm (the same one)");
+                 "per scene, three runs in child processes: cold (a fresh POCL_CACHE_DIR), warm (the same one), "
+                 "cold_compiled (another fresh one, BT_OPENCL_KERNEL_BINARIES=off)");
     app.add_flag("--kernels", kernels, "the solver's start-up in its parts, each kernel's warm-up timed apart");
     app.add_option("--scene", scenes, "basic (BasicDemo's 125 boxes) or drop (a lattice of --boxes unit boxes); "
                                       "default: drop alone, or both with --cold-warm")
@@ -288,14 +297,19 @@ int main(int argc, char** argv) {
             if (scenes.empty()) scenes = {"basic", "drop"};
             Json out = Json::array();
             int rc = 0;
-            for (const std::string& scene : scenes) {
-                const std::string dir = freshCacheDir();
-                Json run;
-                rc |= runChild("/proc/self/exe", dir, scene, boxes, run["cold"]);
-                rc |= runChild("/proc/self/exe", dir, scene, boxes, run["warm"]);
-                out.push_back(run);
+            auto remove = [](const std::string& dir) {
                 const std::string rm = "rm -rf '" + dir + "'";
                 if (std::system(rm.c_str()) != 0) std::fprintf(stderr, "startup: could not remove %s\n", dir.c_str());
+            };
+            for (const std::string& scene : scenes) {
+                const std::string dir = freshCacheDir(), other = freshCacheDir();
+                Json run;
+                rc |= runChild("/proc/self/exe", dir, false, scene, boxes, run["cold"]);
+                rc |= runChild("/proc/self/exe", dir, false, scene, boxes, run["warm"]);
+                rc |= runChild("/proc/self/exe", other, true, scene, boxes, run["cold_compiled"]);
+                out.push_back(run);
+                remove(dir);
+                remove(other);
             }
             std::printf("%s\n", dumpJson(out).c_str());
             return rc;

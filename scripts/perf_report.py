@@ -249,41 +249,43 @@ def growth_plot(run_list, out_png):
 
 
 def startup_table(run_list):
-    """Which start-up cost is paid how often: the parts (startup --kernels, cold and warm cache),
-    then the solver made and a scene's first second as a user meets them (startup --cold-warm)."""
+    """Which start-up cost is paid how often: the parts (startup --kernels: an empty cache with the
+    build's binaries, an empty cache compiling, a warm cache), then the solver made and a scene's
+    first second as a user meets them (startup --cold-warm), in the same three columns."""
     def each(values, fmt):
         return ", ".join(fmt % v for v in values) or "-"
-    parts = [(load(os.path.join(f, "kernels-cold.json")), load(os.path.join(f, "kernels-warm.json")))
-             for f, _ in run_list if os.path.exists(os.path.join(f, "kernels-cold.json"))]
+    def parts_of(name):
+        return [load(os.path.join(f, name)) for f, _ in run_list if os.path.exists(os.path.join(f, name))]
+    binary, cold, warm = parts_of("kernels-binary.json"), parts_of("kernels-cold.json"), parts_of("kernels-warm.json")
     users = [load(os.path.join(f, "startup.json")) for f, _ in run_list]
-    lines = ["| what | how often | cold (empty cache) | warm |", "|---|---|---|---|"]
-    if parts:
+    lines = ["| what | how often | empty cache, the build's binaries | empty cache, compiled | warm cache |",
+             "|---|---|---|---|---|"]
+    if cold:
         programs = lambda d: sum(p["ms"] for p in d["programs"])
         kernels = lambda d: sum(k["ms"] for k in d["kernels"]) + d.get("sort_and_scan_warm_up_ms", 0)
-        count = len(parts[-1][0]["kernels"])
-        lines.append("| the program built | cold: once per machine and PoCL version; warm: once per solver | %s | %s |" % (
-            each([programs(c) for c, _ in parts], "%.0f ms"), each([programs(w) for _, w in parts], "%.0f ms")))
+        count = len(cold[-1]["kernels"])
+        lines.append("| the program built (from its binary, or compiled) | compiled: once per machine and PoCL version; "
+                     "else once per solver | %s | %s | %s |" % (
+            each([programs(d) for d in binary], "%.0f ms"), each([programs(d) for d in cold], "%.0f ms"),
+            each([programs(d) for d in warm], "%.0f ms")))
         lines.append("| the code of the step's %d kernels and of the sort and scan generated (warm-up launches) "
-                     "| cold: once per machine; warm: once per process | %s | %s |" % (count, each([kernels(c) for c, _ in parts], "%.0f ms"),
-                                               each([kernels(w) for _, w in parts], "%.0f ms")))
-    # startup --cold-warm prints one {"cold": ..., "warm": ...} per scene.
+                     "| compiled: once per machine; else once per process | %s | %s | %s |" % (
+            count, each([kernels(d) for d in binary], "%.0f ms"), each([kernels(d) for d in cold], "%.0f ms"),
+            each([kernels(d) for d in warm], "%.0f ms")))
+    # startup --cold-warm prints one {"cold": ..., "warm": ..., "cold_compiled": ...} per scene.
     by_scene = {}
     for u in users:
         for run in u:
             by_scene.setdefault(run["cold"]["scene"], []).append(run)
+    rows = [("the solver made (first in the process)", "once per solver", "construct_ms", 1, "%.0f ms"),
+            ("made + the first second of steps", "", "construct_plus_first_second_ms", 1000, "%.2f s"),
+            ("the first step with contacts", "", "first_contact_step_ms", 1, "%.1f ms"),
+            ("slowest step / median step", "", "slowest_over_median", 1, "%.1fx")]
     for scene, rs in by_scene.items():
-        lines.append("| %s: the solver made (first in the process) | once per solver | %s | %s |" % (
-            scene, each([r["cold"]["construct_ms"] for r in rs], "%.0f ms"),
-            each([r["warm"]["construct_ms"] for r in rs], "%.0f ms")))
-        lines.append("| %s: made + the first second of steps | | %s | %s |" % (
-            scene, each([r["cold"]["construct_plus_first_second_ms"] / 1000 for r in rs], "%.2f s"),
-            each([r["warm"]["construct_plus_first_second_ms"] / 1000 for r in rs], "%.2f s")))
-        lines.append("| %s: the first step with contacts | | %s | %s |" % (
-            scene, each([r["cold"]["first_contact_step_ms"] for r in rs], "%.1f ms"),
-            each([r["warm"]["first_contact_step_ms"] for r in rs], "%.1f ms")))
-        lines.append("| %s: slowest step / median step | | %s | %s |" % (
-            scene, each([r["cold"]["slowest_over_median"] for r in rs], "%.1fx"),
-            each([r["warm"]["slowest_over_median"] for r in rs], "%.1fx")))
+        for label, often, key, scale, fmt in rows:
+            lines.append("| %s: %s | %s | %s | %s | %s |" % (
+                scene, label, often, *(each([r[side][key] / scale for r in rs if side in r], fmt)
+                                       for side in ("cold", "cold_compiled", "warm"))))
     return lines
 
 
@@ -370,6 +372,8 @@ def docs():
         startup = runs(machine, "startup")
         if startup:
             replace_block(perf, "startup", ["Runs: %s." % run_sources(startup), ""] + startup_table(startup))
+            replace_block(os.path.join(ROOT, "README.md"), "startup", startup_table(startup) + [
+                "", "(%s, `docs/bench/%s/`)" % (info.get("short", machine), machine)])
         hardware = runs(machine, "hardware")
         if hardware and speed:
             replace_block(perf, "limit", ["Runs: %s; %s." % (run_sources(speed[-1:]), run_sources(hardware[-1:])), ""]

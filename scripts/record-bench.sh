@@ -67,8 +67,11 @@ for kind in "$@"; do
       rm -f build/startup/*.json
       build/demos/startup --cold-warm >build/startup/startup.json
       cache="$(mktemp -d /tmp/btocl-pocl-cache-XXXXXX)"
-      POCL_CACHE_DIR="$cache" build/demos/startup --kernels >build/startup/kernels-cold.json
-      POCL_CACHE_DIR="$cache" build/demos/startup --kernels >build/startup/kernels-warm.json
+      POCL_CACHE_DIR="$cache" BT_OPENCL_KERNEL_BINARIES=off build/demos/startup --kernels >build/startup/kernels-cold.json
+      POCL_CACHE_DIR="$cache" BT_OPENCL_KERNEL_BINARIES=off build/demos/startup --kernels >build/startup/kernels-warm.json
+      rm -rf "$cache"
+      cache="$(mktemp -d /tmp/btocl-pocl-cache-XXXXXX)"
+      POCL_CACHE_DIR="$cache" build/demos/startup --kernels >build/startup/kernels-binary.json
       rm -rf "$cache"
       keep startup build/startup ;;
     hardware)

@@ -68,6 +68,12 @@ struct btOpenCLSolverConfig {
     // (docs/performance.md, "Start-up"). Off: the solver is made without, and warmUp() does it at the
     // moment the caller chooses; until then each step compiles what it launches first.
     bool warmUpAtConstruction = true;
+    // Programs are built from the binaries the library's build made for this machine's devices
+    // where there is one for the device, driver and kernels in use: no compile at all, even with
+    // an empty kernel cache. Off, or with none (another machine, PoCL version or device), the
+    // kernels are compiled. The environment variable BT_OPENCL_KERNEL_BINARIES names another
+    // folder, or "off" (docs/usage.md).
+    bool kernelBinaries = true;
 };
 
 // What the last step did. Times in milliseconds: the host's stages by the host's clock, the

@@ -1,6 +1,7 @@
 #include "OclRuntime.h"
 
 #include "FaultInjection.h"
+#include "KernelBinaries.h"
 #include "KernelSources.h"
 #include "btOpenCLSolverError.h"
 
@@ -155,7 +156,8 @@ DeviceEntry selectDevice(const std::string& specIn) {
     return *found;
 }
 
-OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers) {
+OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers, bool kernelBinaries)
+    : m_kernelBinaries(kernelBinaries) {
     pinPoclWorkersOnce(pinPoclWorkers);
     const DeviceEntry entry = selectDevice(deviceSpec);
     m_device = entry.device;
@@ -207,19 +209,54 @@ const cl::Program& OclRuntime::stepProgram() const {
 cl::Program OclRuntime::buildProgramSource(const std::string& source, const std::string& name,
                                            const std::string& options) const {
     const auto t0 = std::chrono::steady_clock::now();
-    cl_int err = CL_SUCCESS;
-    cl::Program program(m_context, inlineKernelIncludes(source), false, &err);
-    checkCl(err, ("creating program " + name).c_str());
+    const std::string text = inlineKernelIncludes(source);
     const std::string opts = "-cl-std=CL1.2 " + options;
-    err = program.build(std::vector<cl::Device>{m_device}, opts.c_str());
-    if (err != CL_SUCCESS) {
-        std::string log;
-        program.getBuildInfo(m_device, CL_PROGRAM_BUILD_LOG, &log);
-        throw btOpenCLSolverError("btOpenCLConstraintSolver: building kernel program '" + name + "' failed (" +
-                                  clErrorName(err) + ") on " + m_deviceName + ". Compiler log:\n" + log);
+    ProgramBuild build{name, 0, false, kernelBinaryKey(text, opts, m_device), cl::Program()};
+    if (m_kernelBinaries) build.program = programFromBinary(build.binaryKey);
+    build.fromBinary = build.program() != nullptr;
+    if (!build.fromBinary) {
+        cl_int err = CL_SUCCESS;
+        build.program = cl::Program(m_context, text, false, &err);
+        checkCl(err, ("creating program " + name).c_str());
+        err = build.program.build(std::vector<cl::Device>{m_device}, opts.c_str());
+        if (err != CL_SUCCESS) {
+            std::string log;
+            build.program.getBuildInfo(m_device, CL_PROGRAM_BUILD_LOG, &log);
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: building kernel program '" + name + "' failed (" +
+                                      clErrorName(err) + ") on " + m_deviceName + ". Compiler log:\n" + log);
+        }
     }
-    m_programBuilds.push_back({name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()});
+    build.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    m_programBuilds.push_back(build);
+    return build.program;
+}
+
+// A program from the binary named `key`, built; a null program when there is none or the device
+// refuses it (another device or driver, a damaged file): then the caller compiles the source.
+cl::Program OclRuntime::programFromBinary(const std::string& key) const {
+    const std::vector<unsigned char> bytes = readKernelBinary(kernelBinaryDirs(), key);
+    if (bytes.empty()) return cl::Program();
+    const unsigned char* data = bytes.data();
+    const size_t size = bytes.size();
+    cl_int status = CL_SUCCESS, err = CL_SUCCESS;
+    cl_program raw = clCreateProgramWithBinary(m_context(), 1, &m_device(), &size, &data, &status, &err);
+    if (err != CL_SUCCESS || status != CL_SUCCESS || !raw) return cl::Program();
+    cl::Program program(raw);  // takes the reference
+    if (program.build(std::vector<cl::Device>{m_device}) != CL_SUCCESS) return cl::Program();
     return program;
+}
+
+void OclRuntime::writeProgramBinaries(const std::string& dir) const {
+    for (const ProgramBuild& build : m_programBuilds) {
+        size_t size = 0;
+        checkCl(clGetProgramInfo(build.program(), CL_PROGRAM_BINARY_SIZES, sizeof size, &size, nullptr),
+                "reading a program's binary size");
+        std::vector<unsigned char> bytes(size);
+        unsigned char* data = bytes.data();
+        checkCl(clGetProgramInfo(build.program(), CL_PROGRAM_BINARIES, sizeof data, &data, nullptr),
+                "reading a program's binary");
+        writeKernelBinary(dir, build.binaryKey, bytes);
+    }
 }
 
 cl::Kernel OclRuntime::makeKernel(const cl::Program& program, const char* name) const {

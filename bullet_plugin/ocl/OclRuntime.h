@@ -46,7 +46,9 @@ void pinPoclWorkersOnce(bool pin);
 class OclRuntime {
 public:
     // pinPoclWorkers: pinPoclWorkersOnce's, before the process's first device query.
-    explicit OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers = true);
+    // kernelBinaries: programs are built from the binaries made with the library where there is
+    // one for this device (KernelBinaries.h); else always from source.
+    explicit OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers = true, bool kernelBinaries = true);
 
     const cl::Context& context() const { return m_context; }
     const cl::CommandQueue& queue() const { return m_queue; }
@@ -88,8 +90,15 @@ public:
     struct ProgramBuild {
         std::string name;
         double ms = 0;
+        bool fromBinary = false;  // built from a binary made with the library, not compiled
+        std::string binaryKey;    // its binary's name (kernelBinaryKey)
+        cl::Program program;
     };
     const std::vector<ProgramBuild>& programBuilds() const { return m_programBuilds; }
+    // Writes the binary of every program built so far into `dir`, each as <binaryKey>.bin, with the
+    // code of every kernel variant the device has made for it (on PoCL): what the library's build
+    // runs after a warm-up. Throws btOpenCLSolverError.
+    void writeProgramBinaries(const std::string& dir) const;
 
     // Enqueues `kernel` over `items` work-items. With a local size the global size is rounded up
     // to a multiple of it (such kernels check their bounds); local 0 lets the device choose.
@@ -128,6 +137,8 @@ public:
     void drain() const noexcept;
 
 private:
+    cl::Program programFromBinary(const std::string& key) const;
+
     cl::Device m_device;
     cl::Context m_context;
     cl::CommandQueue m_queue;
@@ -135,6 +146,7 @@ private:
     bool m_isCpu = false;
     bool m_hostUnifiedMemory = false;
     bool m_profiling = false;
+    bool m_kernelBinaries = true;
     size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0, m_computeUnits = 1;
     mutable size_t m_bufferBytes = 0;
     mutable int m_phase = -1;
