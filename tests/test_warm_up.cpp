@@ -8,7 +8,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -152,10 +154,22 @@ TEST_CASE("after the warm-up, no step makes PoCL generate a kernel", "[.][warm-u
     const std::multiset<std::string> warm = ourCompiledKernels(cache);
     INFO("after the warm-up: " << Catch::Detail::stringify(warm));
     REQUIRE(warm.size() > 5);
-    if (fromBinaries)
-        CHECK(warm == made);  // nothing compiled by the warm-up either
-    else
+    if (fromBinaries) {
+        // Nothing compiled by the warm-up either: each kernel came with a program's binary, which
+        // carries a generic variant of every kernel besides those launched ("0-0-0": no local
+        // size); a kernel there at construction has no variant more after the warm-up. A program
+        // made at the warm-up (the wide path's batch program) brings its own.
+        std::vector<std::string> compiled;
+        for (const std::string& k : warm) {
+            const std::string name = k.substr(0, k.find('/'));
+            const bool atConstruction = made.count(name + "/0-0-0") != 0;
+            if ((atConstruction && made.count(k) == 0) || warm.count(name + "/0-0-0") == 0) compiled.push_back(k);
+        }
+        INFO("compiled by the warm-up: " << Catch::Detail::stringify(compiled));
+        CHECK(compiled.empty());
+    } else {
         CHECK(kernelNames(warm).size() == warm.size());  // one variant a kernel
+    }
 
     // Steps of every kind the path runs: whole and split, joints, push, launches past 65,535
     // work-items (a dense block: some 70K contact points). Each solver warms up as it is made
