@@ -327,6 +327,74 @@ BTOCL_SOLVE_INLINE float btoclSolveConstraintInOrder(const btoclSolveBuffers* b,
     return maxResidual2;
 }
 
+// Two constraints side by side. A constraint's rows form one chain (each row reads the velocities
+// the row before wrote), and a manifold has few rows, often one or two a pass: solved one after
+// the other, a core waits on the latency of each chain in turn. Two constraints that share no
+// dynamic body touch nothing of each other's (a body that cannot move is read, never written), so
+// solving their rows in lockstep, two chains at once, gives the bits of solving one, then the
+// other, in less of the wait. Taken where a pass walks constraints in a fixed order with nothing
+// but contact rows in it: the velocity passes within the contacts' iterations, in no randomized
+// order, without interleaved friction, rotated points or a residual to track. The host's solve
+// walks so (HostSolve.cpp); the claimed kernel's walk measured slower with it on PoCL
+// (docs/performance.md, "Two constraints side by side").
+BTOCL_INLINE int btoclPassPairs(int pass, int flags, int iteration, int numIterations) {
+    return (pass == BTOCL_PASS_NORMAL || pass == BTOCL_PASS_FRICTION) && iteration < numIterations &&
+           (flags & (BTOCL_FLAG_RANDOM_ORDER | BTOCL_FLAG_INTERLEAVE_FRICTION | BTOCL_FLAG_ROTATE_POINTS |
+                     BTOCL_FLAG_TRACK_RESIDUAL)) == 0;
+}
+
+// Whether c1 and c2 may be solved side by side (btoclSolveContactPair): contact rows alone (no
+// joint rows, no rolling rows), no dynamic body of one in the other.
+BTOCL_INLINE int btoclPairable(BTOCL_GLOBAL const btoclConstraint* c1, BTOCL_GLOBAL const btoclConstraint* c2) {
+    if (c1->numRows[BTOCL_ROWS_JOINT] + c1->numRows[BTOCL_ROWS_ROLLING] + c2->numRows[BTOCL_ROWS_JOINT] +
+            c2->numRows[BTOCL_ROWS_ROLLING] != 0)
+        return 0;
+    const int aShared = c1->dynamicA && (c1->bodyA == c2->bodyA || c1->bodyA == c2->bodyB);
+    const int bShared = c1->dynamicB && (c1->bodyB == c2->bodyA || c1->bodyB == c2->bodyB);
+    return !aShared && !bShared;
+}
+
+// Row r of a contact in the normal pass (pass 0 to FLT_MAX) or the friction pass (within the
+// friction coefficient times its normal row's impulse, skipped while that is not positive), as
+// btoclSolveConstraintInOrder and btoclSolveFrictionRows solve it in a fixed order.
+BTOCL_SOLVE_INLINE void btoclSolveContactRow(const btoclSolveBuffers* b, int r, int pass, btoclSolveBody* A,
+                                             btoclSolveBody* B) {
+    BTOCL_GLOBAL const btoclSolveRow* row = b->rows + r;
+    if (pass == BTOCL_PASS_NORMAL) {
+        btoclSolveRowImpulse(row, b->applied + r, A, B, 0.0f, BTOCL_FLT_MAX, 0);
+        return;
+    }
+    const float total = b->applied[b->normalOfRow[r]];
+    if (!(total > 0.0f)) return;
+    const float limit = BTOCL_SOLVE_ROW_FRICTION(*row) * total;
+    btoclSolveRowImpulse(row, b->applied + r, A, B, -limit, limit, 0);
+}
+
+// c1 and c2 (btoclPairable) in a pass that pairs (btoclPassPairs): row k of one beside row k of
+// the other, with the bits of solving c1, then c2, with btoclSolveConstraint.
+BTOCL_SOLVE_INLINE void btoclSolveContactPair(const btoclSolveBuffers* b, BTOCL_GLOBAL const btoclConstraint* c1,
+                                              BTOCL_GLOBAL const btoclConstraint* c2, int pass, int flags) {
+    const int applyFactors = (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+    btoclSolveBody A1 = btoclLoadSolveBody(b->bodies + c1->bodyA, b->deltas + c1->bodyA, 0, applyFactors);
+    btoclSolveBody B1 = btoclLoadSolveBody(b->bodies + c1->bodyB, b->deltas + c1->bodyB, 0, applyFactors);
+    btoclSolveBody A2 = btoclLoadSolveBody(b->bodies + c2->bodyA, b->deltas + c2->bodyA, 0, applyFactors);
+    btoclSolveBody B2 = btoclLoadSolveBody(b->bodies + c2->bodyB, b->deltas + c2->bodyB, 0, applyFactors);
+    const int kind = pass == BTOCL_PASS_NORMAL ? BTOCL_ROWS_NORMAL : BTOCL_ROWS_FRICTION;
+    const int first1 = c1->firstRow[kind], count1 = c1->numRows[kind];
+    const int first2 = c2->firstRow[kind], count2 = c2->numRows[kind];
+    const int both = count1 < count2 ? count1 : count2;
+    for (int k = 0; k < both; ++k) {
+        btoclSolveContactRow(b, first1 + k, pass, &A1, &B1);
+        btoclSolveContactRow(b, first2 + k, pass, &A2, &B2);
+    }
+    for (int k = both; k < count1; ++k) btoclSolveContactRow(b, first1 + k, pass, &A1, &B1);
+    for (int k = both; k < count2; ++k) btoclSolveContactRow(b, first2 + k, pass, &A2, &B2);
+    btoclStoreSolveBody(&A1, b->deltas + c1->bodyA, 0);
+    btoclStoreSolveBody(&B1, b->deltas + c1->bodyB, 0);
+    btoclStoreSolveBody(&A2, b->deltas + c2->bodyA, 0);
+    btoclStoreSolveBody(&B2, b->deltas + c2->bodyB, 0);
+}
+
 // seed: the constraint's in this pass (btoclSeedOf), read with BTOCL_FLAG_RANDOM_ORDER: the
 // velocity passes then walk each kind of its rows in a shuffled order (SI shuffles its rows
 // likewise; its push iterations and the warm start keep their order, and so do these). Two copies

@@ -335,9 +335,13 @@ void StepGatherer::packManifolds() {
 
     const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
     int numPoints = 0, numRolling = 0, numConstraints = 0;
+    m_bullet.mayHaveAnisotropic = false;
     for (ManifoldSlot& slot : m_slots) {
         if (!slot.solved || slot.numPoints == 0) continue;
-        if (slot.anisotropic) p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
+        if (slot.anisotropic) {
+            p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
+            m_bullet.mayHaveAnisotropic = true;
+        }
         slot.constraint = numConstraints++;
         slot.firstPoint = numPoints;
         slot.firstRolling = numRolling;

@@ -19,6 +19,9 @@ struct BulletStep {
     std::vector<btTransform> worldTransforms;  // per solver body, at the step's start (push)
     std::vector<btPersistentManifold*> manifoldOfConstraint;  // per constraint; null for a joint
     std::vector<btManifoldPoint*> manifoldPoints;             // per contact point
+    // Whether an object of a manifold may have anisotropic friction: the gather says when none
+    // has, and the host's row setup then reads no manifold's objects.
+    bool mayHaveAnisotropic = true;
     // The step's joints and their rows, set up on the host as SI sets them up (JointRows.h).
     JointRowSet joints;
 };

@@ -43,8 +43,10 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
         btoclConstraint& c = p.constraints[ci];
         const btPersistentManifold* m = bullet.manifoldOfConstraint[ci];
         if (!m) continue;  // a joint's
-        // Most manifolds have none: their points skip the objects' reads.
-        const bool anisotropicPair = hasAnisotropicFriction(m->getBody0()) || hasAnisotropicFriction(m->getBody1());
+        // Most manifolds have none: their points skip the objects' reads, and a step whose
+        // gather found none reads no manifold's objects at all.
+        const bool anisotropicPair = bullet.mayHaveAnisotropic &&
+                                     (hasAnisotropicFriction(m->getBody0()) || hasAnisotropicFriction(m->getBody1()));
         c.firstRow[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size());
         const int firstPoint = c.firstRow[BTOCL_ROWS_NORMAL];
         for (int i = firstPoint; i < firstPoint + c.numRows[BTOCL_ROWS_NORMAL]; ++i) {

@@ -5,6 +5,7 @@
 #include "row_solve.h"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace btocl {
 
@@ -15,13 +16,30 @@ namespace {
 // group's batches and each batch's constraints in the orders that one lane walks on the device
 // (solve.cl). Returns the largest squared residual. The iteration and m_numIterations matter to
 // the velocity passes (btoclSolveConstraint). The pass is a constant, as in the kernels, so that
-// the compiler folds its branches away.
+// the compiler folds its branches away. With `pairsAllowed`, pairs of constraints are solved side
+// by side where the pass allows (btoclPassPairs), counted in `pairsSolved`.
 template <int PASS>
 float solvePassOf(const btoclSolveBuffers& b, int numConstraints, const BatchLayout* layout, int flags, int iteration,
-                  int numIterations, unsigned passSeed) {
+                  int numIterations, unsigned passSeed, bool pairsAllowed, long& pairsSolved) {
     const int shuffled = btoclShuffledRows(PASS, flags), constraintsShuffled = btoclShuffledConstraints(PASS, flags);
-    float maxResidual2 = 0;
+    float maxResidual2 = 0;  // stays 0 where a pass pairs: it tracks no residual
+    const bool pairs = pairsAllowed && btoclPassPairs(PASS, flags, iteration, numIterations);
     auto walk = [&](const btoclGroup& g, const int* batchEnd, const int* solveOrder) {
+        if (pairs) {
+            // In a fixed order a group's batches one after another are its constraints in order,
+            // taken two side by side where they may be (btoclSolveContactPair).
+            auto at = [&](int i) { return b.constraints + (solveOrder ? solveOrder[i] : i); };
+            for (int i = g.offset; i < g.offset + g.count; ++i) {
+                if (i + 1 < g.offset + g.count && btoclPairable(at(i), at(i + 1))) {
+                    btoclSolveContactPair(&b, at(i), at(i + 1), PASS, flags);
+                    ++pairsSolved;
+                    ++i;
+                } else {
+                    btoclSolveConstraint(&b, at(i), PASS, flags, iteration, numIterations, 0u);
+                }
+            }
+            return;
+        }
         const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
         for (int kk = 0; kk < g.numBatches; ++kk) {
             const int k = btoclOrderAt(g.numBatches, constraintsShuffled, groupSeed, kk);
@@ -52,11 +70,15 @@ float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, 
     const btoclSolveBuffers b{p.constraints.data(), m_rows.data(), m_normalOfRow.data(), m_applied.data(),
                               m_pushApplied.data(), p.bodies.data(), p.deltas.data()};
     const int n = int(p.constraints.size());
+    auto run = [&](auto passConstant) {
+        return solvePassOf<decltype(passConstant)::value>(b, n, layout, flags, iteration, numIterations, passSeed,
+                                                          m_pairs, m_pairsSolved);
+    };
     switch (pass) {
-        case BTOCL_PASS_NORMAL: return solvePassOf<BTOCL_PASS_NORMAL>(b, n, layout, flags, iteration, numIterations, passSeed);
-        case BTOCL_PASS_FRICTION: return solvePassOf<BTOCL_PASS_FRICTION>(b, n, layout, flags, iteration, numIterations, passSeed);
-        case BTOCL_PASS_PUSH: return solvePassOf<BTOCL_PASS_PUSH>(b, n, layout, flags, iteration, numIterations, passSeed);
-        default: return solvePassOf<BTOCL_PASS_WARMSTART>(b, n, layout, flags, iteration, numIterations, passSeed);
+        case BTOCL_PASS_NORMAL: return run(std::integral_constant<int, BTOCL_PASS_NORMAL>());
+        case BTOCL_PASS_FRICTION: return run(std::integral_constant<int, BTOCL_PASS_FRICTION>());
+        case BTOCL_PASS_PUSH: return run(std::integral_constant<int, BTOCL_PASS_PUSH>());
+        default: return run(std::integral_constant<int, BTOCL_PASS_WARMSTART>());
     }
 }
 
@@ -76,6 +98,7 @@ int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const Solv
                 m_applied[size_t(r)] = BTOCL_ROW_APPLIED(row);
                 m_pushApplied[size_t(r)] = BTOCL_ROW_APPLIED_PUSH(row);
             }
+    m_pairsSolved = 0;
     const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;

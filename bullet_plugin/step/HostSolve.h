@@ -22,6 +22,12 @@ public:
     int solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
               const BatchLayout* layout = nullptr);
 
+    // Two adjacent constraints that share no dynamic body are solved side by side where a pass
+    // allows (btoclSolveContactPair), with the bits of one after the other; off, never (the tests
+    // compare the two). pairsSolved: how many pairs the last solve took so.
+    void pairConstraints(bool on) { m_pairs = on; }
+    long pairsSolved() const { return m_pairsSolved; }
+
 private:
     float solvePass(StepProblem& p, const BatchLayout* layout, int pass, int flags, int iteration, int numIterations,
                     unsigned passSeed);
@@ -31,6 +37,8 @@ private:
     std::vector<btoclSolveRow> m_rows;
     std::vector<int> m_normalOfRow;
     std::vector<float> m_applied, m_pushApplied;
+    bool m_pairs = true;
+    long m_pairsSolved = 0;
 };
 
 // The serial host reference of the device's solve: p's passes (passScheduleOf) in `layout`'s order.
