@@ -204,10 +204,13 @@ void StepGatherer::addJointRows() {
         p.constraints.push_back(c);
         m_bullet.manifoldOfConstraint.push_back(nullptr);
     }
-    // The rows move where no contact row is set up on the host yet: a copy of them was a large
-    // part of a joint-heavy step's gather.
+    // Where no contact row is set up on the host yet, the rows move (a copy of them was a large
+    // part of a joint-heavy step's gather), unless p.rows has room for the step's every row from
+    // the steps before: then they are copied there, and a host row setup after them fits its
+    // contact rows in without a new array (each a fresh allocation to fault in).
     std::vector<btoclRow>& rows = m_bullet.joints.rows;
-    if (p.rows.empty())
+    const size_t allRows = size_t(p.rowStart(BTOCL_ROWS_JOINT)) + rows.size();
+    if (p.rows.empty() && p.rows.capacity() < allRows)
         p.rows.swap(rows);
     else
         p.rows.insert(p.rows.end(), rows.begin(), rows.end());

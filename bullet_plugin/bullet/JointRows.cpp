@@ -7,12 +7,14 @@
 #include "row_setup.h"
 #include "row_solve.h"
 
+#include <BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btSolverConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
 #include <string>
+#include <typeinfo>
 
 namespace btocl {
 namespace {
@@ -116,6 +118,15 @@ std::string jointName(size_t index, const btTypedConstraint& joint) {
            ")";
 }
 
+// SI calls every joint's buildJacobian before its getInfo1, for the joints on the obsolete
+// solve path. Bullet's own point-to-point joint builds three Jacobian entries there on either path
+// (a large part of a chain's set-up) that only the obsolete path reads: off it, the call is left
+// out. A subclass's, or any other type's, is made as SI makes it.
+bool jacobianUnread(const btTypedConstraint& c) {
+    if (typeid(c) != typeid(btPoint2PointConstraint)) return false;
+    return !static_cast<const btPoint2PointConstraint&>(c).m_useSolveConstraintObsolete;
+}
+
 }  // namespace
 
 // Row counts first (in parallel, then their running sum), then every joint's rows (in parallel),
@@ -137,7 +148,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
             throw InputError("btOpenCLConstraintSolver: " + jointName(i, *c) + " joins the rigid body at index " +
                              std::to_string(c->getRigidBodyA().getWorldArrayIndex()) +
                              " of the world to itself; a joint needs two bodies");
-        c->buildJacobian();
+        if (!jacobianUnread(*c)) c->buildJacobian();
         StepJoint& j = set.joints[i];
         j.constraint = c;
         j.feedback = c->getJointFeedback();
@@ -190,6 +201,7 @@ JointRowSet setUpJointRows(btTypedConstraint* const* joints, int numJoints, cons
 
     // One constraint per joint with rows; its split point waits for a step that is split
     // (placeJointSplitPoints).
+    set.constraints.reserve(set.joints.size());
     for (StepJoint& j : set.joints) {
         if (j.numRows == 0) continue;
         set.maxIterations = std::max(set.maxIterations, j.numIterations);
