@@ -27,7 +27,7 @@ SplitParams splitParamsOf(const btOpenCLSolverConfig& config) {
 
 StepPipeline::StepPipeline(const btOpenCLSolverConfig& config)
     : m_config(config),
-      m_runtime(config.device, config.pinPoclThreads, config.kernelBinaries),
+      m_runtime(config.device, config.pinPoclThreads, config.kernelBinaries, config.kernelBinaryDir),
       m_plan(planSolver(config, m_runtime)),
       // A device with memory of its own copies the step's arrays by DMA from pinned memory.
       m_pinned(m_runtime.hostUnifiedMemory() ? nullptr : std::make_unique<PinnedHostMemory>(m_runtime)),

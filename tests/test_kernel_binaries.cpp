@@ -90,6 +90,13 @@ TEST_CASE("a program built from its binary is the compiled one: the same results
         key = compiled.runtime().programBuilds().front().binaryKey;
     }
     REQUIRE(fs::exists(dir.path / (key + ".bin")));
+    {
+        btOpenCLSolverConfig config = deviceStepsConfig(true);
+        config.kernelBinaryDir = dir.path.string();  // the config's folder, whatever the environment says
+        ScopedEnv off("BT_OPENCL_KERNEL_BINARIES", "off");
+        btocl::StepPipeline fromConfig(config);
+        CHECK(fromConfig.runtime().programBuilds().front().fromBinary);
+    }
     ScopedEnv env("BT_OPENCL_KERNEL_BINARIES", dir.path.string().c_str());
     {
         btocl::StepPipeline loaded(deviceStepsConfig(true));

@@ -71,9 +71,11 @@ struct btOpenCLSolverConfig {
     // Programs are built from the binaries the library's build made for this machine's devices
     // where there is one for the device, driver and kernels in use: no compile at all, even with
     // an empty kernel cache. Off, or with none (another machine, PoCL version or device), the
-    // kernels are compiled. The environment variable BT_OPENCL_KERNEL_BINARIES names another
-    // folder, or "off" (docs/usage.md).
+    // kernels are compiled (docs/usage.md, "Kernel binaries").
     bool kernelBinaries = true;
+    // The folder they are read from: "" = the environment variable BT_OPENCL_KERNEL_BINARIES (a
+    // folder, or "off"), else the build tree's and the installed folder.
+    std::string kernelBinaryDir;
 };
 
 // What the last step did. Times in milliseconds: the host's stages by the host's clock, the

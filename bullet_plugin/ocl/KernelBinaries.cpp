@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 namespace btocl {
 namespace {
@@ -38,7 +37,8 @@ std::string kernelBinaryKey(const std::string& source, const std::string& option
     return hex;
 }
 
-std::vector<std::string> kernelBinaryDirs() {
+std::vector<std::string> kernelBinaryDirs(const std::string& dir) {
+    if (!dir.empty()) return {dir};
     if (const char* env = std::getenv("BT_OPENCL_KERNEL_BINARIES"); env && *env) {
         const std::string value = env;
         if (value == "off") return {};
@@ -49,10 +49,12 @@ std::vector<std::string> kernelBinaryDirs() {
 
 std::vector<unsigned char> readKernelBinary(const std::vector<std::string>& dirs, const std::string& key) {
     for (const std::string& dir : dirs) {
-        std::ifstream in(std::filesystem::path(dir) / (key + ".bin"), std::ios::binary);
-        if (!in) continue;
-        std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (!bytes.empty()) return bytes;
+        std::ifstream in(std::filesystem::path(dir) / (key + ".bin"), std::ios::binary | std::ios::ate);
+        const std::streamsize size = in ? std::streamsize(in.tellg()) : 0;
+        if (size <= 0) continue;
+        std::vector<unsigned char> bytes(static_cast<size_t>(size));
+        in.seekg(0);
+        if (in.read(reinterpret_cast<char*>(bytes.data()), size)) return bytes;
     }
     return {};
 }

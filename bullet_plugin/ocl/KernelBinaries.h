@@ -18,9 +18,10 @@ namespace btocl {
 // build options and of the device's and driver's names and versions.
 std::string kernelBinaryKey(const std::string& source, const std::string& options, const cl::Device& device);
 
-// Where binaries are looked for, in order: the environment variable BT_OPENCL_KERNEL_BINARIES
-// alone when it is set ("off": nowhere), else the build tree's folder and the installed one.
-std::vector<std::string> kernelBinaryDirs();
+// Where binaries are looked for: `dir` alone when it is not empty; else the environment variable
+// BT_OPENCL_KERNEL_BINARIES alone when it is set ("off": nowhere); else the build tree's folder and
+// the installed one, in that order.
+std::vector<std::string> kernelBinaryDirs(const std::string& dir = "");
 
 // The bytes of the first file <dir>/<key>.bin of `dirs`; empty when there is none.
 std::vector<unsigned char> readKernelBinary(const std::vector<std::string>& dirs, const std::string& key);

@@ -156,8 +156,9 @@ DeviceEntry selectDevice(const std::string& specIn) {
     return *found;
 }
 
-OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers, bool kernelBinaries)
-    : m_kernelBinaries(kernelBinaries) {
+OclRuntime::OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers, bool kernelBinaries,
+                       const std::string& kernelBinaryDir)
+    : m_kernelBinaries(kernelBinaries), m_kernelBinaryDir(kernelBinaryDir) {
     pinPoclWorkersOnce(pinPoclWorkers);
     const DeviceEntry entry = selectDevice(deviceSpec);
     m_device = entry.device;
@@ -234,7 +235,7 @@ cl::Program OclRuntime::buildProgramSource(const std::string& source, const std:
 // A program from the binary named `key`, built; a null program when there is none or the device
 // refuses it (another device or driver, a damaged file): then the caller compiles the source.
 cl::Program OclRuntime::programFromBinary(const std::string& key) const {
-    const std::vector<unsigned char> bytes = readKernelBinary(kernelBinaryDirs(), key);
+    const std::vector<unsigned char> bytes = readKernelBinary(kernelBinaryDirs(m_kernelBinaryDir), key);
     if (bytes.empty()) return cl::Program();
     const unsigned char* data = bytes.data();
     const size_t size = bytes.size();

@@ -47,8 +47,10 @@ class OclRuntime {
 public:
     // pinPoclWorkers: pinPoclWorkersOnce's, before the process's first device query.
     // kernelBinaries: programs are built from the binaries made with the library where there is
-    // one for this device (KernelBinaries.h); else always from source.
-    explicit OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers = true, bool kernelBinaries = true);
+    // one for this device, in kernelBinaryDirs(kernelBinaryDir) (KernelBinaries.h); else always
+    // from source.
+    explicit OclRuntime(const std::string& deviceSpec, bool pinPoclWorkers = true, bool kernelBinaries = true,
+                        const std::string& kernelBinaryDir = "");
 
     const cl::Context& context() const { return m_context; }
     const cl::CommandQueue& queue() const { return m_queue; }
@@ -147,6 +149,7 @@ private:
     bool m_hostUnifiedMemory = false;
     bool m_profiling = false;
     bool m_kernelBinaries = true;
+    std::string m_kernelBinaryDir;
     size_t m_maxWorkGroupSize = 0, m_localMemSize = 0, m_maxAllocSize = 0, m_computeUnits = 1;
     mutable size_t m_bufferBytes = 0;
     mutable int m_phase = -1;
