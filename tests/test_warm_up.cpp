@@ -8,9 +8,7 @@
 
 #include <catch2/catch.hpp>
 
-#include <algorithm>
 #include <cstdlib>
-#include <iterator>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -111,9 +109,12 @@ std::multiset<std::string> ourCompiledKernels(const fs::path& cache) {
     return out;
 }
 
+// The kernel of a "<kernel>/<variant>" entry.
+std::string kernelOf(const std::string& compiled) { return compiled.substr(0, compiled.find('/')); }
+
 std::set<std::string> kernelNames(const std::multiset<std::string>& compiled) {
     std::set<std::string> names;
-    for (const std::string& k : compiled) names.insert(k.substr(0, k.find('/')));
+    for (const std::string& k : compiled) names.insert(kernelOf(k));
     return names;
 }
 
@@ -161,7 +162,7 @@ TEST_CASE("after the warm-up, no step makes PoCL generate a kernel", "[.][warm-u
         // made at the warm-up (the wide path's batch program) brings its own.
         std::vector<std::string> compiled;
         for (const std::string& k : warm) {
-            const std::string name = k.substr(0, k.find('/'));
+            const std::string name = kernelOf(k);
             const bool atConstruction = made.count(name + "/0-0-0") != 0;
             if ((atConstruction && made.count(k) == 0) || warm.count(name + "/0-0-0") == 0) compiled.push_back(k);
         }

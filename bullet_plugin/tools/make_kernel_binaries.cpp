@@ -3,11 +3,9 @@
 // variant a step launches), and writes each program's binary into the folder given, named by
 // kernelBinaryKey (ocl/KernelBinaries.h). A device that fails is skipped with a note: the library
 // then compiles for it as it would without binaries. Writes <folder>/made last, listing them.
-#include "KernelBinaries.h"
 #include "OclRuntime.h"
 #include "StepPipeline.h"
 #include "btOpenCLConstraintSolver.h"
-#include "btOpenCLSolverError.h"
 
 #include <chrono>
 #include <cstdio>
