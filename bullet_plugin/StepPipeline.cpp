@@ -3,6 +3,7 @@
 #include "BulletConversions.h"
 #include "BulletGather.h"
 #include "HostRowSetup.h"
+#include "LaneLayout.h"
 #include "LayoutValidator.h"
 #include "StepWriteBack.h"
 
@@ -13,6 +14,13 @@ namespace {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The plan of a solver on `runtime`, whose step program is then built for its lanes.
+SolverPlan planAndSetLanes(const btOpenCLSolverConfig& config, OclRuntime& runtime) {
+    const SolverPlan plan = planSolver(config, runtime);
+    runtime.setStepProgramLanes(plan.simdLanes);
+    return plan;
 }
 
 }  // namespace
@@ -28,7 +36,7 @@ SplitParams splitParamsOf(const btOpenCLSolverConfig& config) {
 StepPipeline::StepPipeline(const btOpenCLSolverConfig& config)
     : m_config(config),
       m_runtime(config.device, config.pinPoclThreads, config.kernelBinaries, config.kernelBinaryDir),
-      m_plan(planSolver(config, m_runtime)),
+      m_plan(planAndSetLanes(config, m_runtime)),
       // A device with memory of its own copies the step's arrays by DMA from pinned memory.
       m_pinned(m_runtime.hostUnifiedMemory() ? nullptr : std::make_unique<PinnedHostMemory>(m_runtime)),
       m_primitives(m_runtime, m_plan.sortAndScan, false),  // warmed up by warmUp()
@@ -105,6 +113,7 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
         splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
                       m_hostSplit);
         msHostSplit = msSince(t0);
+        if (step.inLanes()) return solveInLanes(p, step, settings, s, msHostSplit);
         m_layout.upload(m_hostSplit, step);
     } else {
         m_layout.build(m_solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(m_config), step);
@@ -132,14 +141,52 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
         msHostArrange = msSince(t0);
     }
     m_solve.arrange(p, view, hostSplit ? &m_hostArrangement : nullptr);
+    iterateAndDownload(p, step, view, settings, s);
+    s.msSplit += msHostSplit;
+    s.msSetup += msHostArrange;
+}
+
+// The passes and the step's one wait, once the rows are set up; the device's phases to the stats.
+void StepPipeline::iterateAndDownload(StepProblem& p, const StepPlan& step, const DeviceLayoutView& view,
+                                      const SolveSettings& settings, btOpenCLSolverStats& s) {
     m_runtime.beginPhase(DevicePhase::Solve);
     m_solve.iterate(p, step, view, settings);
     m_runtime.beginPhase(DevicePhase::Download);
     s.numIterationsRun = m_solve.download(p, step, settings);  // the one wait
     m_runtime.endPhases();
     fillDeviceStats(s, p, step);
+}
+
+// A step in lanes, split on the host (msHostSplit): the lane layout made from the split, the rows
+// set up in its blocks, the passes in one launch.
+void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
+                                btOpenCLSolverStats& s, double msHostSplit) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int frictionPerPoint = (p.setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), frictionPerPoint,
+                int(m_runtime.computeUnits()), m_laneLayout);
+    const double msLayout = msSince(t0);
+    if (m_config.validate) {
+        std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
+        if (failure.empty()) failure = validateLaneLayout(m_laneLayout, m_hostSplit, p.constraints);
+        if (!failure.empty()) {
+            s.validationFailures += 1;
+            s.lastValidationMessage = failure;
+        }
+    }
+    m_runtime.beginPhase(DevicePhase::Setup);
+    m_solve.arrangeInLanes(p, m_laneLayout, settings);
+    iterateAndDownload(p, step, DeviceLayoutView{}, settings, s);
     s.msSplit += msHostSplit;
-    s.msSetup += msHostArrange;
+    s.msSetup += msLayout;
+    s.numCellGroups = m_hostSplit.setGroupStart[BTOCL_NUM_SETS];
+    s.numGroups = m_hostSplit.setGroupStart[BTOCL_NUM_SETS + 1];
+    s.numOverflowConstraints = m_hostSplit.numOverflowConstraints;
+    s.numBatchesMax = s.numGroups > 0 ? 1 : 0;
+    s.numBatchesMean = s.numBatchesMax;
+    s.simdLanes = m_laneLayout.lanes;
+    s.laneFill = m_laneLayout.laneFill();
+    s.laneRowFill = m_laneLayout.rowFill();
 }
 
 // What the device did: its phases' times (profiling events), the layout's counts, the step's.

@@ -19,6 +19,7 @@
 #include "DeviceSolver.h"
 #include "HostSolve.h"
 #include "HostSplit.h"
+#include "LaneLayout.h"
 #include "KernelWarmUp.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
@@ -64,6 +65,10 @@ private:
     void solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step, const SolveSettings& settings,
                      btOpenCLSolverStats& s);
     void solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s);
+    void solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s,
+                      double msHostSplit);
+    void iterateAndDownload(StepProblem& p, const StepPlan& step, const DeviceLayoutView& view,
+                            const SolveSettings& settings, btOpenCLSolverStats& s);
     void fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const;
 
     // Members in the order they are made: each reads those above it.
@@ -77,6 +82,7 @@ private:
     DeviceLayout m_layout;
     BatchLayout m_hostSplit;  // the split made on the host (splitsOnHost), read by the queue
     HostArrangement m_hostArrangement;  // and its arrangement, likewise
+    LaneLayout m_laneLayout;            // or its lane layout, likewise
     HostSolve m_hostSolve;
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset

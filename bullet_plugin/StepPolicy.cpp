@@ -1,5 +1,8 @@
 #include "StepPolicy.h"
 
+#include "LaneLayout.h"
+#include "row_solve.h"
+
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -64,7 +67,42 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
     return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
 }
 
+// Whether the lanes solve every row of a step (kernels/lane_solve.h): contact rows alone, each
+// point's friction rows after its normal row's, rows set up on the device, in a pass order the
+// lanes keep (each lane walks its group as btoclSolveConstraint does in passes that pair:
+// btoclPassPairs), and the contacts' iterations all there are.
+bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
+    const int frictionPerPoint = (p.setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, frictionPerPoint) &&
+           passes.maxIterations == passes.numIterations &&
+           btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
+}
+
 }  // namespace
+
+int resolveSimdLanes(int asked, const OclRuntime& runtime) {
+    if (asked < 0) {
+        if (const char* env = std::getenv("BT_OPENCL_SIMD_LANES"); env && *env) {
+            const std::string value = lowerCase(env);
+            if (value != "auto") {
+                char* end = nullptr;
+                const long lanes = std::strtol(value.c_str(), &end, 10);
+                if (end == value.c_str() || *end != '\0')
+                    throw btOpenCLSolverError("btOpenCLConstraintSolver: BT_OPENCL_SIMD_LANES is '" +
+                                              std::string(env) + "'; it takes auto, 1, 4, 8 or 16");
+                asked = int(lanes);
+            }
+        }
+    }
+    if (asked >= 0 && asked != 1 && asked != 4 && asked != 8 && asked != 16)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: simdLanes is " + std::to_string(asked) +
+                                  "; it takes -1 (automatic), 1, 4, 8 or 16");
+    if (!runtime.isCpu()) return 1;  // a GPU's lanes are the wide path's work-items
+    // Automatic: one group a work-item. On this project's 2-core PoCL machine the lanes cut the
+    // solve phase of the split scenes by a fifth to a third but cost as much again in the setup (the
+    // lane layout, the rows turned into blocks) and the host's split (docs/performance.md, "Lanes").
+    return asked > 0 ? asked : 1;
+}
 
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime) {
     using Backend = DevicePrimitives::Backend;
@@ -80,6 +118,7 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.claimedLaunch = runtime.isCpu();
     plan.hostSplitMaxConstraints = runtime.isCpu() && !plan.wide() ? kHostSplitMaxConstraints : 0;
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
+    plan.simdLanes = !plan.wide() && plan.claimedLaunch ? resolveSimdLanes(config.simdLanes, runtime) : 1;
     return plan;
 }
 
@@ -93,10 +132,13 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
     // A split step on the serial path runs in one claimed launch on a CPU (the per-set launches,
     // about a hundred a step, each cost PoCL more than a small group's work; docs/performance.md);
     // the wide path, and the serial path on a GPU, launch once per set and pass.
-    return !solver.wide() && solver.claimedLaunch ? StepPlan::claimed(passes) : StepPlan::perSet(solver.lanes, passes);
+    if (solver.wide() || !solver.claimedLaunch) return StepPlan::perSet(solver.lanes, passes);
+    if (solver.simdLanes > 1 && stepFitsLanes(p, settings, passes)) return StepPlan::claimedInLanes(passes, solver.simdLanes);
+    return StepPlan::claimed(passes);
 }
 
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {
+    if (step.inLanes()) return true;  // the lane layout is the host's, from the host's split
     return !step.oneGroup() && !step.onHost() && !step.localBatches() &&
            p.constraints.size() <= solver.hostSplitMaxConstraints;
 }

@@ -24,6 +24,9 @@ struct SolverPlan {
     // (HostSplit.h): the device's split is a dozen launches, each a fixed cost on PoCL, for work
     // the host does in less; past it the device's split, on every core, is faster. 0: never.
     size_t hostSplitMaxConstraints = 0;
+    // Split steps' groups solved this many at a time in the vector unit's lanes where the step's
+    // rows allow (LaneLayout.h); 1: one group a work-item.
+    int simdLanes = 1;
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
 };
 
@@ -36,6 +39,11 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
 // whole in one launch where the split would cost more than it saves; else split and launched as
 // the path does. And its passes.
 StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings);
+
+// The lanes a solver on `runtime` asks for (config.simdLanes, or BT_OPENCL_SIMD_LANES): 1 on a
+// device that is not a CPU, and where neither asks. Throws btOpenCLSolverError for a width other
+// than 1, 4, 8 or 16.
+int resolveSimdLanes(int asked, const OclRuntime& runtime);
 
 // Whether a step split as `step` says is split on the host (HostSplit.h) rather than the device.
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step);

@@ -321,6 +321,35 @@ typedef struct {
     int cell;        // linear cell index (or -1 for the overflow group)
 } btoclGroup;
 
+// The lanes layout (a CPU's vector unit; docs/architecture.md, "Lanes"). Groups of one set share
+// no dynamic body, so W of them are walked side by side, one per lane: a **bundle**. At each of
+// its **slots** lane i holds the next constraint of its group, and the slot's rows lie in blocks of
+// W rows, one per lane, each float of the W rows together (a row's 20 floats in
+// btoclSolveRow's order), so that a vector load reads one float of every lane's row. Rows of a slot's
+// kind k lie in block first + k; a lane whose constraint has fewer rows leaves its place unused.
+typedef struct {
+    int normalBlock;     // first block of the slot's normal rows (rows normalBlock * W + lane)
+    int normalBlocks;    // the most normal rows (points) of its lanes' constraints
+    int frictionBlock;   // first block of its friction rows (in the friction region, after every normal block)
+    int frictionBlocks;  // normalBlocks times the friction rows per point
+} btoclLaneSlot;
+// A slot's lanes, as W ints each (slot s's at [s * BTOCL_LANE_INTS * W, ...)): their constraints'
+// bodies, and their points (normal rows; 0: an unused lane, on the fixed body).
+enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_INTS };
+// What a unit impulse does to a body in the lanes' passes (btoclSolveBody's per-unit scales, made
+// once a step): xyz of each, w of the first: 1 for a dynamic body (the only ones stored). One for
+// the warm start (factors always applied), one for the other passes.
+typedef struct {
+    btoclFloat4 linearPerUnit, angularPerUnit;
+} btoclPerUnit;
+// Floats of a btoclPerUnit a slot keeps per lane (all but the last, unused).
+#define BTOCL_LANE_PER_UNIT_FLOATS 7
+#define BTOCL_SOLVE_ROW_FLOATS 20
+// Where float `field` (btoclSolveRow's floats in order, 0 to 19) of wide row `index` lies.
+BTOCL_INLINE int btoclWideRowFloat(int index, int field, int lanes) {
+    return (index / lanes) * (BTOCL_SOLVE_ROW_FLOATS * lanes) + field * lanes + index % lanes;
+}
+
 #ifndef __OPENCL_VERSION__
 static_assert(sizeof(btoclBody) == 11 * 16, "btoclBody layout");
 static_assert(sizeof(btoclBodyDelta) == 4 * 16, "btoclBodyDelta layout");
@@ -328,6 +357,8 @@ static_assert(sizeof(btoclRow) == 8 * 16, "btoclRow layout");
 static_assert(sizeof(btoclSolveRow) == 5 * 16, "btoclSolveRow layout");
 static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
+static_assert(sizeof(btoclLaneSlot) == 16, "btoclLaneSlot layout");
+static_assert(sizeof(btoclPerUnit) == 32, "btoclPerUnit layout");
 static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");
 static_assert(sizeof(btoclSetupParams) == 4 * 16, "btoclSetupParams layout");
 static_assert(sizeof(btoclRowRegions) == 2 * 16, "btoclRowRegions layout");

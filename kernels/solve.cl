@@ -12,6 +12,7 @@
 // - claimed: every pass in one launch of a single-lane work-group per compute unit, which claim
 //   each set's groups in turn (solveStepClaimed, the serial path's).
 #include "btocl_shared.h"
+#include "lane_solve.h"
 #include "row_solve.h"
 
 // The buffers of every solve kernel, first among its parameters and in this order
@@ -239,10 +240,14 @@ inline int finishedGroups(__global int* progress, int numRanges) {
 // setGroupStart: BTOCL_NUM_SETS + 2 ints, read here so that the host need not wait for the
 // split. progress: btoclProgressSize ints, laid out as btocl_shared.h says, all zero (a single
 // work-group clears them itself).
-__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
-    BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numConstraints, int flags,
-    float threshold, btoclPassSchedule schedule) {
-    const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
+// With `lb` (a step in lanes, solveStepInLanes), the groups are bundles and each is solved in
+// lanes (kernels/lane_solve.h); `numConstraints` then counts slots. lanes: a constant at each call,
+// so that each kernel keeps its own walk alone.
+BTOCL_SOLVE_INLINE void claimedStep(const btoclSolveBuffers* bp, const btoclLaneBuffers* lb, const int lanes,
+                                    __global const btoclGroup* groups, __global const int* batchEnd,
+                                    __global int* control, __global const int* setGroupStart, __global int* progress,
+                                    int numConstraints, int flags, float threshold, btoclPassSchedule schedule) {
+    const btoclSolveBuffers b = *bp;
     int setStart[BTOCL_NUM_SETS + 2];
     for (int s = 0; s < BTOCL_NUM_SETS + 2; ++s) setStart[s] = setGroupStart[s];
     const int numGroups = setStart[BTOCL_NUM_SETS + 1];
@@ -285,8 +290,15 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
                     for (int group = claimed; group < min(claimed + groupsPerClaim, r.y); ++group) {
                         if (solve) {
                             const btoclGroup g = groups[group];
+#if defined(BTOCL_LANES) && BTOCL_LANES > 1
+#define BTOCL_SOLVE_CLAIMED(PASS)                                                                         \
+    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS, flags)                                             \
+               : solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, \
+                                       passSeed))
+#else
 #define BTOCL_SOLVE_CLAIMED(PASS) \
     solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, passSeed)
+#endif
                             const float groupResidual2 = BTOCL_BY_PASS(p.pass, BTOCL_SOLVE_CLAIMED);
 #undef BTOCL_SOLVE_CLAIMED
                             // Before the group counts as finished: whoever sees it finished sees this.
@@ -306,3 +318,57 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
     // Every work-group saw the same residuals at the same places, so any one can tell.
     if (self == 0) control[BTOCL_CONTROL_ITERATIONS] = iterationsRun;
 }
+
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
+    BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numConstraints, int flags,
+    float threshold, btoclPassSchedule schedule) {
+    const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
+    claimedStep(&b, 0, 1, groups, batchEnd, control, setGroupStart, progress, numConstraints, flags, threshold,
+                schedule);
+}
+
+#if defined(BTOCL_LANES) && BTOCL_LANES > 1
+// The lanes' per-unit scales of every body (btoclPerUnit), two a body: the warm start's (the
+// factors applied, as SI does there), then the other passes' (with BTOCL_FLAG_APPLY_FACTORS).
+__kernel void setUpPerUnits(__global const btoclBody* bodies, __global const btoclBodyDelta* deltas,
+                            __global btoclPerUnit* perUnit, int numBodies, int flags) {
+    const int i = get_global_id(0);
+    if (i >= numBodies) return;
+    for (int which = 0; which < 2; ++which) {
+        const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+        const btoclSolveBody s = btoclLoadSolveBody(bodies + i, deltas + i, 0, applyFactors);
+        btoclPerUnit u;
+        u.linearPerUnit = (float4)(s.linearPerUnit.xyz, s.dynamic);
+        u.angularPerUnit = (float4)(s.angularPerUnit.xyz, 0.0f);
+        perUnit[2 * i + which] = u;
+    }
+}
+
+// Each slot's per-unit scales, side A's then B's (btoclCopySlotPerUnits), from setUpPerUnits'.
+__kernel void setUpSlotPerUnits(__global const btoclPerUnit* perUnit, __global const int* lanes,
+                                __global float* slotPerUnit, int numSlots) {
+    const int slot = get_global_id(0);
+    if (slot >= numSlots) return;
+    __global const int* ints = lanes + slot * (BTOCL_LANE_INTS * BTOCL_LANES);
+    __global float* out = slotPerUnit + 2 * slot * (BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
+    btoclCopySlotPerUnits(perUnit, BTOCL_CAT(vload, BTOCL_LANES)(0, ints + BTOCL_LANE_BODY_A * BTOCL_LANES), out);
+    btoclCopySlotPerUnits(perUnit, BTOCL_CAT(vload, BTOCL_LANES)(0, ints + BTOCL_LANE_BODY_B * BTOCL_LANES),
+                          out + BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
+}
+
+// A step in lanes (a CPU's vector unit; kernels/lane_solve.h), claimed as solveStepClaimed claims
+// groups: `groups` are the bundles, setGroupStart the sets' bundles, numSlots every bundle's
+// slots. The warm start and every pass of a step that the lanes take (StepPolicy.cpp: contact
+// rows alone, in a fixed order). Of the solve buffers, rows, normalOfRow (a friction row's normal
+// is at its place / frictionPerPoint), constraints and batchEnd go unread.
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
+    BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
+    float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,
+    __global const btoclPerUnit* perUnit, __global const float* slotPerUnit, __global const float* wideRows,
+    int frictionPerPoint) {
+    const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
+    const btoclLaneBuffers lb = {slots, lanes, perUnit, slotPerUnit, wideRows, frictionPerPoint};
+    claimedStep(&b, &lb, BTOCL_LANES, groups, batchEnd, control, setGroupStart, progress, numSlots, flags, threshold,
+                schedule);
+}
+#endif

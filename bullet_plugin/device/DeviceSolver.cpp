@@ -26,6 +26,12 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_placeConstraints = m_rt.makeKernel(program, "placeConstraints");
     m_placeRows = m_rt.makeKernel(program, "placeRows");
     m_impulsesToGatherOrder = m_rt.makeKernel(program, "impulsesToGatherOrder");
+    if (m_rt.stepProgramLanes() > 1) {
+        m_inLanes = m_rt.makeKernel(program, "solveStepInLanes");
+        m_perUnits = m_rt.makeKernel(program, "setUpPerUnits");
+        m_slotPerUnits = m_rt.makeKernel(program, "setUpSlotPerUnits");
+        m_transposeRows = m_rt.makeKernel(program, "transposeRowsToLanes");
+    }
 }
 
 // The copies are enqueued without waiting (one wait for all, by the caller): p lives until the
@@ -78,11 +84,56 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
+    setUpContactRows(p, m_rowMap.buffer(), m_applied.buffer(), 1);
+}
+
+// The contact rows from the points, to their places (`rowMap`'s) in the solve's order, or (lanes >
+// 1) as records for transposeRowsToLanes, their impulses to `applied`.
+void DeviceSolver::setUpContactRows(StepProblem& p, const cl::Buffer& rowMap, const cl::Buffer& applied, int lanes) {
     p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
     m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
-    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(),
-            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams);
+    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), rowMap, m_rows.buffer(), m_normalOfRow.buffer(),
+            applied, m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams, lanes);
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
+}
+
+void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings) {
+    if (lanes.lanes != m_rt.stepProgramLanes())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout of " + std::to_string(lanes.lanes) +
+                                  " lanes for a program of " + std::to_string(m_rt.stepProgramLanes()));
+    const size_t places = size_t(lanes.numBlocks) * size_t(lanes.lanes);
+    m_rows.reserve(m_rt, places);  // the rows as records first, then in blocks (transposeRowsToLanes)
+    m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
+    m_setupImpulses.reserve(m_rt, places);
+    m_applied.reserve(m_rt, places);
+    m_pushApplied.reserve(m_rt, places);
+    m_placed.reserve(m_rt, 1);  // bound, unread
+    m_normalOfRow.reserve(m_rt, 1);
+    m_bundles.enqueueWrite(m_rt, lanes.bundles);
+    m_setBundleStart.enqueueWrite(m_rt, lanes.setBundleStart.data(), lanes.setBundleStart.size());
+    m_slots.enqueueWrite(m_rt, lanes.slots);
+    m_lanes.enqueueWrite(m_rt, lanes.laneInts);
+    const int numBodies = int(p.bodies.size());
+    m_perUnit.reserve(m_rt, 2 * size_t(numBodies));
+    setArgs(m_perUnits, m_bodies.buffer(), m_deltas.buffer(), m_perUnit.buffer(), numBodies, settings.flags);
+    m_rt.launch(m_perUnits, size_t(numBodies), kLanes, "launching setUpPerUnits");
+    const int numSlots = int(lanes.slots.size());
+    m_slotPerUnit.reserve(m_rt, size_t(numSlots) * 2 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
+    if (numSlots > 0) {
+        setArgs(m_slotPerUnits, m_perUnit.buffer(), m_lanes.buffer(), m_slotPerUnit.buffer(), numSlots);
+        m_rt.launch(m_slotPerUnits, size_t(numSlots), kLanes, "launching setUpSlotPerUnits");
+    }
+    m_rowMap.enqueueWrite(m_rt, lanes.rowMap);
+    m_setupMap.enqueueWrite(m_rt, lanes.setupMap);
+    m_numSlots = int(lanes.slots.size());
+    m_frictionPerPoint = lanes.frictionPerPoint;
+    if (numSlots > 0 && !p.points.empty()) {
+        setUpContactRows(p, m_setupMap.buffer(), m_setupImpulses.buffer(), lanes.lanes);
+        setArgs(m_transposeRows, m_rows.buffer(), m_setupImpulses.buffer(), m_slots.buffer(), m_lanes.buffer(),
+                m_wideRows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), numSlots, lanes.lanes,
+                lanes.frictionPerPoint);
+        m_rt.launch(m_transposeRows, size_t(numSlots), kLanes, "launching transposeRowsToLanes");
+    }
 }
 
 // The buffers every solve kernel takes first, arguments 0 to kSolveBufferArgs - 1, in the order
@@ -136,16 +187,34 @@ void DeviceSolver::launchWholeStep(const StepPlan& plan, const DeviceLayoutView&
 void DeviceSolver::launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                                  const SolveSettings& s, int workGroups) {
     const btoclPassSchedule& passes = plan.passes();
+    clearProgress(passes, workGroups);
+    bindSolveBuffers(m_claimed, layout);
+    setArgsFrom(m_claimed, kSolveBufferArgs, *layout.setGroupStartOnDevice, m_progress.buffer(),
+                int(p.constraints.size()), s.flags, s.residualThreshold, passes);
+    m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
+}
+
+void DeviceSolver::clearProgress(const btoclPassSchedule& passes, int workGroups) {
     const size_t progressInts =
         size_t(btoclProgressSize(workGroups, btoclPassCount(passes), passes.pushIterations, passes.maxIterations));
     if (workGroups > 1)
         m_progress.fill(m_rt, 0, progressInts);
     else
         m_progress.reserve(m_rt, progressInts);
-    bindSolveBuffers(m_claimed, layout);
-    setArgsFrom(m_claimed, kSolveBufferArgs, *layout.setGroupStartOnDevice, m_progress.buffer(),
-                int(p.constraints.size()), s.flags, s.residualThreshold, passes);
-    m_rt.launch(m_claimed, size_t(workGroups), 1, "launching solveStepClaimed");
+}
+
+// As launchClaimed, over the bundles of arrangeInLanes, one work-group per compute unit.
+void DeviceSolver::launchInLanes(const StepPlan& plan, const SolveSettings& s) {
+    const btoclPassSchedule& passes = plan.passes();
+    const int workGroups = int(m_rt.computeUnits());
+    clearProgress(passes, workGroups);
+    setArgs(m_inLanes, m_bundles.buffer(), m_bundles.buffer(), m_placed.buffer(), m_rows.buffer(),
+            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(),
+            m_control.buffer());
+    setArgsFrom(m_inLanes, kSolveBufferArgs, m_setBundleStart.buffer(), m_progress.buffer(), m_numSlots, s.flags,
+                s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_perUnit.buffer(),
+                m_slotPerUnit.buffer(), m_wideRows.buffer(), m_frictionPerPoint);
+    m_rt.launch(m_inLanes, size_t(workGroups), 1, "launching solveStepInLanes");
 }
 
 void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
@@ -153,6 +222,7 @@ void DeviceSolver::iterate(const StepProblem& p, const StepPlan& plan, const Dev
     if (p.constraints.empty()) return;
     if (plan.onHost())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a step planned for the host was sent to the device");
+    if (plan.inLanes()) return launchInLanes(plan, s);
     if (plan.claimedLaunch()) return launchClaimed(p, plan, layout, s, plan.oneGroup() ? 1 : int(m_rt.computeUnits()));
     if (plan.mode() == StepMode::PerSet) return launchPerSet(plan, layout, s);
     launchWholeStep(plan, layout, s);
@@ -170,7 +240,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     warm.launch(m_placeRows, grid, kLanes);
     btoclSetupParams noPoints{};
     noPoints.numPoints = 0;
-    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints);
+    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints, 1);
     warm.launch(m_setupRows, grid, kLanes);
     setArgs(m_impulsesToGatherOrder, z, z, z, none);
     warm.launch(m_impulsesToGatherOrder, grid, kLanes);
@@ -187,6 +257,17 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
         bindScratch(m_claimed, z);
         setArgsFrom(m_claimed, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses);
         warm.launch(m_claimed, m_rt.computeUnits(), 1);
+    }
+    if (m_inLanes()) {
+        bindScratch(m_inLanes, z);
+        setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, z, 1);
+        warm.launch(m_inLanes, m_rt.computeUnits(), 1);
+        setArgs(m_perUnits, z, z, z, none, none);
+        warm.launch(m_perUnits, grid, kLanes);
+        setArgs(m_slotPerUnits, z, z, z, none);
+        warm.launch(m_slotPerUnits, grid, kLanes);
+        setArgs(m_transposeRows, z, z, z, z, z, z, z, none, none, none);
+        warm.launch(m_transposeRows, grid, kLanes);
     }
     if (!lanes.localBatches) return;
     if (wg > 1) {

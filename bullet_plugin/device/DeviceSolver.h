@@ -7,6 +7,7 @@
 #include "DeviceBuffer.h"
 #include "DevicePrimitives.h"
 #include "HostArrange.h"
+#include "LaneLayout.h"
 #include "KernelWarmUp.h"
 #include "SolveSettings.h"
 #include "StepPlan.h"
@@ -38,6 +39,9 @@ public:
     // (kernels/arrange.cl, kernels/setup.cl). With `onHost`, the places are that arrangement's,
     // uploaded (it must live, unchanged, until the queue has finished).
     void arrange(StepProblem& p, const DeviceLayoutView& layout, const HostArrangement* onHost = nullptr);
+    // For a step in lanes (StepPlan::inLanes): the lane layout uploaded (it must live, unchanged,
+    // until the queue has finished) and the rows set up in its blocks (kernels/setup.cl).
+    void arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings);
     // Enqueues the plan's passes, launched as its mode says.
     void iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with
@@ -59,10 +63,16 @@ private:
     void launchWholeStep(const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                        const SolveSettings& settings, int workGroups);
+    void launchInLanes(const StepPlan& plan, const SolveSettings& settings);
+    void setUpContactRows(StepProblem& p, const cl::Buffer& rowMap, const cl::Buffer& applied, int lanes);
+    void clearProgress(const btoclPassSchedule& passes, int workGroups);
+
 
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
+    // solveStepInLanes and setUpPerUnits, where the program has lanes (OclRuntime::stepProgramLanes)
+    cl::Kernel m_inLanes, m_perUnits, m_slotPerUnits, m_transposeRows;
     cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_impulsesToGatherOrder;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
@@ -76,6 +86,17 @@ private:
     DeviceBuffer<float> m_applied, m_pushApplied;  // per row in solve order: what the iterations update
     DeviceBuffer<float> m_impulses;
     DeviceBuffer<int> m_progress;  // solveStepClaimed's finished counts, residuals and claim counters
+    // A step in lanes: its bundles (as groups), their set starts, slots, lanes and rows in blocks.
+    DeviceBuffer<btoclGroup> m_bundles;
+    DeviceBuffer<int> m_setBundleStart;
+    DeviceBuffer<btoclLaneSlot> m_slots;
+    DeviceBuffer<int> m_lanes;
+    DeviceBuffer<btoclPerUnit> m_perUnit;
+    DeviceBuffer<int> m_setupMap;        // where the setup writes each row's record (LaneLayout::setupMap)
+    DeviceBuffer<float> m_setupImpulses;  // ... and its starting impulse
+    DeviceBuffer<float> m_slotPerUnit;
+    DeviceBuffer<float> m_wideRows;
+    int m_numSlots = 0, m_frictionPerPoint = 1;
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};  // the control block as read back
 };
 

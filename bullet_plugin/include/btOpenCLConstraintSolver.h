@@ -51,6 +51,15 @@ struct btOpenCLSolverConfig {
     // order, as Bullet's solver does. With SOLVER_RANDMIZE_ORDER in the solver info the points'
     // order is shuffled instead (docs/usage.md, "Solver modes").
     bool rotatePoints = false;
+    // On a CPU device, the serial path can solve a split step's groups W at a time in the lanes of
+    // the vector unit, each lane walking one run of groups as a work-item would (the same results
+    // to the bit), where every row of the step is a contact's normal or friction row in a fixed
+    // order (no joints, rolling friction, SOLVER_RANDMIZE_ORDER, interleaved friction,
+    // rotatePoints or residual threshold: those steps walk one group a work-item). -1: the solver
+    // decides, or env BT_OPENCL_SIMD_LANES ("auto", 1, 4, 8, 16); today one group a work-item: the
+    // lanes' faster solve is not yet repaid on the 2-core test machine (docs/performance.md,
+    // "Lanes"); 1: never; 4, 8 or 16: that W (4 measured best there, on PoCL's 256-bit code).
+    int simdLanes = -1;
     // A step our solver fails to run (a device error, buffers past the device's limits) is solved
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad
     // input (non-finite values, negative counts) still throws.
@@ -104,6 +113,10 @@ struct btOpenCLSolverStats {
     // the host's times of its row setup and passes, and the other device phases are 0.
     bool solvedOnHost = false;
     int numGroups = 0;
+    // A split step solved in lanes (simdLanes): its W, 0 otherwise; the share of its slots' lanes
+    // that held a constraint, and of its row blocks' places that held a row.
+    int simdLanes = 0;
+    double laneFill = 0, laneRowFill = 0;
     // Device memory the solver's buffers hold after the step (they are kept and grown, never
     // shrunk; the sort library's own scratch is not counted).
     double deviceBytes = 0;

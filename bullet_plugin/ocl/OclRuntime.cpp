@@ -203,8 +203,16 @@ const cl::Program& OclRuntime::stepProgram() const {
     if (!m_stepProgram())
         m_stepProgram = buildProgramFiles({"primitives.cl", "split.cl", "arrange.cl", "setup.cl", "solve.cl"},
                                           std::string("-cl-fp32-correctly-rounded-divide-sqrt") +
-                                              (m_isCpu ? " -DBTOCL_CPU_PREFETCH" : ""));
+                                              (m_isCpu ? " -DBTOCL_CPU_PREFETCH" : "") +
+                                              (m_stepLanes > 1 ? " -DBTOCL_LANES=" + std::to_string(m_stepLanes) : ""));
     return m_stepProgram;
+}
+
+void OclRuntime::setStepProgramLanes(int lanes) {
+    if (lanes == m_stepLanes) return;
+    if (m_stepProgram())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: the step program's lanes were set after it was built");
+    m_stepLanes = lanes;
 }
 
 cl::Program OclRuntime::buildProgramSource(const std::string& source, const std::string& name,

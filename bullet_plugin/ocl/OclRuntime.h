@@ -81,7 +81,12 @@ public:
     // built at the first call and kept. Its options: correctly rounded division and square root
     // (the split's grid must equal the host reference's bit for bit; on PoCL the other kernels'
     // code is the same with or without), and on a CPU software prefetch (btocl_shared.h).
+    // With step lanes set (setStepProgramLanes), it holds the solve in lanes too (kernels/lane_solve.h).
     const cl::Program& stepProgram() const;
+    // The lanes (W > 1) the step program's solve in lanes is built for; 1: none. Before the
+    // program is first built.
+    void setStepProgramLanes(int lanes);
+    int stepProgramLanes() const { return m_stepLanes; }
     // Builds a program from source text (local includes inlined); `name` labels it in errors.
     cl::Program buildProgramSource(const std::string& source, const std::string& name,
                                    const std::string& options = "") const;
@@ -158,6 +163,7 @@ private:
     mutable std::vector<cl::Event> m_phaseEvents[int(DevicePhase::Count)];
     mutable std::vector<ProgramBuild> m_programBuilds;
     mutable cl::Program m_stepProgram;
+    int m_stepLanes = 1;
 };
 
 // Milliseconds between an event's start and end (0 without profiling).

@@ -43,6 +43,13 @@ public:
     static StepPlan claimed(const btoclPassSchedule& passes) {
         return StepPlan(StepMode::Claimed, GroupLanes::serial(), passes);
     }
+    // Claimed likewise, the groups W at a time in the vector unit's lanes (LaneLayout.h): for a
+    // step whose rows the lanes solve (StepPolicy.cpp, stepFitsLanes).
+    static StepPlan claimedInLanes(const btoclPassSchedule& passes, int simdLanes) {
+        StepPlan plan(StepMode::Claimed, GroupLanes::serial(), passes);
+        plan.m_simdLanes = simdLanes;
+        return plan;
+    }
     // The calling thread walks the constraints in gather order: the order of a whole step on the
     // serial path.
     static StepPlan onHost(const btoclPassSchedule& passes) {
@@ -65,6 +72,9 @@ public:
     // The solve reads the split's set starts on the device, so the host does not wait for them.
     bool setStartsOnDevice() const { return claimedLaunch(); }
     const btoclPassSchedule& passes() const { return m_passes; }
+    // W > 1: the groups are solved W at a time in SIMD lanes (claimedInLanes); else 1.
+    int simdLanes() const { return m_simdLanes; }
+    bool inLanes() const { return m_simdLanes > 1; }
 
 private:
     StepPlan(StepMode mode, GroupLanes lanes, const btoclPassSchedule& passes)
@@ -73,6 +83,7 @@ private:
     StepMode m_mode;
     GroupLanes m_lanes;
     btoclPassSchedule m_passes;
+    int m_simdLanes = 1;
 };
 
 // The step's passes (btocl_shared.h): the one place that decides them. Push iterations run only

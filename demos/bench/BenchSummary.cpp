@@ -85,6 +85,10 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
         s["batchesMax"] = st.numBatchesMax;
         s["batchesMean"] = st.numBatchesMean;
         s["overflowConstraints"] = st.numOverflowConstraints;
+        // The last step's lanes (simdLanes): W (0: none), and how full its slots' lanes and row blocks were.
+        s["simdLanes"] = st.simdLanes;
+        s["laneFill"] = st.laneFill;
+        s["laneRowFill"] = st.laneRowFill;
         s["validationFailures"] = side.validationFailures;
         // Device memory held by our buffers: the most over the run, and per contact point after
         // the step with the most contact points.

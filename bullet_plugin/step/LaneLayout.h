@@ -1,0 +1,57 @@
+// A split step laid out for its groups to be solved in lanes (a CPU's vector unit; kernels/
+// lane_solve.h, docs/architecture.md "Lanes"). Groups of one set share no dynamic body, so each
+// set's groups are dealt to W x B lanes in B bundles, each lane a run of consecutive groups of
+// about the same number of constraints; at each slot of a bundle lane i holds the next
+// constraint of its run. The lanes of a slot never share a dynamic body, and each lane walks its
+// groups in the split's order, so each constraint meets its bodies as in the one-lane walk.
+#pragma once
+
+#include "BatchLayout.h"
+#include "btocl_shared.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace btocl {
+
+struct LaneLayout {
+    int lanes = 0;                    // W
+    int frictionPerPoint = 1;
+    std::vector<btoclGroup> bundles;  // per bundle: offset = its first slot, count = its slots
+    std::array<int, BTOCL_NUM_SETS + 2> setBundleStart{};  // bundles of set s: [start[s], start[s + 1])
+    std::vector<btoclLaneSlot> slots;
+    std::vector<int> laneInts;        // per slot, BTOCL_LANE_INTS * W ints (btocl_shared.h)
+    std::vector<int> laneConstraint;  // per slot and lane (s * W + i): its constraint, or -1
+    std::vector<int> rowMap;          // per row in gather order: its wide row index (block * W + lane)
+    // ... and where the setup writes it as a record (transposeRowsToLanes turns a slot's records
+    // into its blocks): its slot's places, lane after lane, each lane's rows of a kind together.
+    std::vector<int> setupMap;
+    int numBlocks = 0;                // blocks of W rows, normal ones first
+    long long usedLanes = 0;          // slots' lanes that hold a constraint
+    long long usedRowPlaces = 0;      // rows placed, of numBlocks * W places
+
+    double laneFill() const { return slots.empty() ? 0 : double(usedLanes) / (double(slots.size()) * lanes); }
+    double rowFill() const { return numBlocks == 0 ? 0 : double(usedRowPlaces) / (double(numBlocks) * lanes); }
+};
+
+// Whether a step's rows can be solved in lanes: contact rows alone (no joint or rolling rows),
+// each point with `frictionPerPoint` friction rows.
+bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
+
+// `split` (the serial path's: one run a group) laid out in `lanes` lanes into `out`, its arrays
+// reused, with at least `minBundlesPerSet` bundles a set where it has groups enough (one per
+// compute unit: the units claim bundles). Every constraint must have
+// numRows[FRICTION] == frictionPerPoint * numRows[NORMAL] and no other rows (rowsFitLanes);
+// throws btOpenCLSolverError otherwise.
+void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
+                 int lanes, int frictionPerPoint, int minBundlesPerSet, LaneLayout& out);
+
+// The lane layout's invariants against its split: every constraint in one lane of one slot, each
+// group whole in one lane and in its order there, a lane's groups all of its bundle's set, no
+// dynamic body twice in a slot, every row placed once in its lane and its slot's blocks, each
+// lane's ints those of its constraint. Returns "" or the first failure.
+std::string validateLaneLayout(const LaneLayout& lanes, const BatchLayout& split,
+                               const std::vector<btoclConstraint>& constraints);
+
+}  // namespace btocl

@@ -1,0 +1,151 @@
+// A split step solved in SIMD lanes (btOpenCLSolverConfig::simdLanes; kernels/lane_solve.h,
+// step/LaneLayout.h): each lane walks a run of groups as one work-item walks a group, so a step
+// in lanes must end to the bit where the one-lane walk ends; steps the lanes do not take walk one
+// group a work-item; the lane layout keeps its invariants, and its validator finds a broken one.
+#include "BulletConversions.h"
+#include "GatherAndSolve.h"
+#include "HostSplit.h"
+#include "LaneLayout.h"
+#include "Scenes.h"
+#include "ScopedEnv.h"
+#include "TestWorld.h"
+#include "WorldSnapshot.h"
+#include "btOpenCLConstraintSolver.h"
+
+#include <catch2/catch.hpp>
+
+#include <utility>
+
+using namespace testworld;
+using btocl::test::ScopedEnv;
+
+namespace {
+
+btOpenCLSolverConfig lanesConfig(int simdLanes) {
+    btOpenCLSolverConfig c = validatingConfig();  // the lane layout checked every step too
+    c.hostStepMaxRows = 0;                        // every step on the device ...
+    c.wholeStepMaxRows = 0;                       // ... and split: the steps the lanes take
+    c.simdLanes = simdLanes;
+    return c;
+}
+
+// The same scene stepped by a solver in `lanes` lanes and by one group a work-item: what they
+// write to Bullet must agree to the bit at every step. Returns the lanes' last stats.
+template <class Build>
+btOpenCLSolverStats requireSameAsOneLane(int lanes, Build build, int steps = 30) {
+    World inLanes(SolverKind::OpenCL, lanesConfig(lanes));
+    World oneLane(SolverKind::OpenCL, lanesConfig(1));
+    for (World* w : {&inLanes, &oneLane}) build(*w);
+    for (int s = 0; s < steps; ++s) {
+        inLanes.step();
+        oneLane.step();
+        INFO("step " << s);
+        REQUIRE(inLanes.openCL()->getLastStats().validationFailures == 0);
+        REQUIRE(solveOutputsOf(inLanes.bodies(), inLanes.manifolds()) ==
+                solveOutputsOf(oneLane.bodies(), oneLane.manifolds()));
+    }
+    CHECK(oneLane.openCL()->getLastStats().simdLanes == 0);
+    return inLanes.openCL()->getLastStats();
+}
+
+}  // namespace
+
+TEST_CASE("a step in lanes ends to the bit where one group a work-item ends", "[lanes]") {
+    // 4: 128-bit vectors; 16: four of them, and the lane names past 9 (a to f).
+    const int lanes = GENERATE(4, 16);
+    const bool pyramid = GENERATE(false, true);  // a pyramid's neighbouring manifolds share boxes
+    const bool twoFriction = GENERATE(false, true);
+    CAPTURE(lanes, pyramid, twoFriction);
+    const btOpenCLSolverStats stats = requireSameAsOneLane(lanes, [&](World& w) {
+        if (pyramid)
+            groundAndPyramid(w, 12);
+        else
+            groundAndPile(w, 200);
+        w.info().m_splitImpulse = 1;  // the push passes too
+        if (twoFriction) w.info().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    });
+    CHECK(stats.numContactPoints > 100);
+    CHECK(stats.simdLanes == lanes);
+    CHECK(stats.laneFill > 0.0);
+    CHECK(stats.laneFill <= 1.0);
+    CHECK(stats.laneRowFill > 0.0);
+}
+
+TEST_CASE("steps whose rows the lanes do not solve walk one group a work-item", "[lanes]") {
+    SECTION("SOLVER_RANDMIZE_ORDER") {
+        const btOpenCLSolverStats stats = requireSameAsOneLane(4, [](World& w) {
+            groundAndPile(w, 200);
+            w.info().m_solverMode |= SOLVER_RANDMIZE_ORDER;
+        });
+        CHECK(stats.numContactPoints > 100);
+        CHECK(stats.simdLanes == 0);
+    }
+    SECTION("interleaved friction") {
+        const btOpenCLSolverStats stats = requireSameAsOneLane(4, [](World& w) {
+            groundAndPile(w, 200);
+            w.info().m_solverMode |= SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS;
+        });
+        CHECK(stats.simdLanes == 0);
+    }
+}
+
+TEST_CASE("the lane layout keeps its invariants, and its validator finds a broken one", "[lanes]") {
+    using namespace btocl;
+    World w(SolverKind::OpenCL);
+    groundAndColumn(w, 3);  // a field of 12 x 12 columns of 3 boxes: many groups of like sizes
+    for (int x = 0; x < 12; ++x)
+        for (int z = 0; z < 12; ++z)
+            if (x + z > 0) addColumn(w, 3, btScalar(3 * x), btScalar(3 * z));
+    for (int s = 0; s < 30; ++s) w.step();
+    btContactSolverInfo info = w.stepInfo();
+    const StepProblem p = btocl::test::gatherProblem(w, info, RowSetup::Device);
+    REQUIRE(p.numContactPoints() > 100);
+    SplitParams params;
+    BatchLayout split;
+    splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, params, true, split);
+    INFO("groups " << split.setGroupStart[BTOCL_NUM_SETS]);
+    REQUIRE(split.setGroupStart[BTOCL_NUM_SETS] > 8);
+    const int lanes = GENERATE(4, 8);
+    const int minBundles = GENERATE(1, 2);
+    LaneLayout layout;
+    layOutLanes(split, p.constraints.data(), p.regions, lanes, 1, minBundles, layout);
+    REQUIRE(validateLaneLayout(layout, split, p.constraints) == "");
+    CHECK(layout.usedLanes == long(p.constraints.size()));
+    CHECK(layout.usedRowPlaces == p.numRows());
+    CHECK(layout.laneFill() > 0.5);  // runs of groups even the lanes out
+
+    // Mutations of a slot whose first two lanes hold constraints, and of the slot after it.
+    size_t slot = 0;
+    while (slot + 1 < layout.slots.size() &&
+           (layout.laneConstraint[slot * size_t(lanes)] < 0 || layout.laneConstraint[slot * size_t(lanes) + 1] < 0 ||
+            layout.laneConstraint[(slot + 1) * size_t(lanes)] < 0))
+        ++slot;
+    REQUIRE(slot + 1 < layout.slots.size());
+    const size_t first = slot * size_t(lanes);
+    // Two lanes' constraints swapped (their ints with them): each lane's run is broken.
+    LaneLayout moved = layout;
+    std::swap(moved.laneConstraint[first], moved.laneConstraint[first + 1]);
+    for (int f = 0; f < BTOCL_LANE_INTS; ++f)
+        std::swap(moved.laneInts[slot * BTOCL_LANE_INTS * size_t(lanes) + size_t(f * lanes)],
+                  moved.laneInts[slot * BTOCL_LANE_INTS * size_t(lanes) + size_t(f * lanes) + 1]);
+    CHECK(validateLaneLayout(moved, split, p.constraints) != "");
+    // A row's place taken by another row.
+    LaneLayout shared = layout;
+    shared.rowMap[1] = shared.rowMap[0];
+    CHECK(validateLaneLayout(shared, split, p.constraints) != "");
+    // A lane's bodies not its constraint's.
+    LaneLayout wrongBody = layout;
+    wrongBody.laneInts[slot * BTOCL_LANE_INTS * size_t(lanes) + BTOCL_LANE_BODY_A * size_t(lanes)] += 1;
+    CHECK(validateLaneLayout(wrongBody, split, p.constraints) != "");
+    // Rows the lanes do not solve: a layout is refused.
+    CHECK_THROWS_AS(layOutLanes(split, p.constraints.data(), p.regions, lanes, 2, minBundles, layout),
+                    btOpenCLSolverError);
+}
+
+TEST_CASE("a lane count other than 1, 4, 8 or 16 is refused with a clear error", "[lanes]") {
+    btOpenCLSolverConfig c;
+    c.simdLanes = 3;
+    CHECK_THROWS_AS(btOpenCLConstraintSolver(c), btOpenCLSolverError);
+    ScopedEnv env("BT_OPENCL_SIMD_LANES", "wide");
+    CHECK_THROWS_AS(btOpenCLConstraintSolver(), btOpenCLSolverError);
+}
