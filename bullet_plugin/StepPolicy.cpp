@@ -118,7 +118,8 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.claimedLaunch = runtime.isCpu();
     plan.hostSplitMaxConstraints = runtime.isCpu() && !plan.wide() ? kHostSplitMaxConstraints : 0;
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
-    plan.simdLanes = !plan.wide() && plan.claimedLaunch ? resolveSimdLanes(config.simdLanes, runtime) : 1;
+    const int simdLanes = resolveSimdLanes(config.simdLanes, runtime);  // checked on every path
+    plan.simdLanes = !plan.wide() && plan.claimedLaunch ? simdLanes : 1;
     return plan;
 }
 

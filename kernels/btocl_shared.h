@@ -334,15 +334,11 @@ typedef struct {
     int frictionBlocks;  // normalBlocks times the friction rows per point
 } btoclLaneSlot;
 // A slot's lanes, as W ints each (slot s's at [s * BTOCL_LANE_INTS * W, ...)): their constraints'
-// bodies, and their points (normal rows; 0: an unused lane, on the fixed body).
-enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_INTS };
-// What a unit impulse does to a body in the lanes' passes (btoclSolveBody's per-unit scales, made
-// once a step): xyz of each, w of the first: 1 for a dynamic body (the only ones stored). One for
-// the warm start (factors always applied), one for the other passes.
-typedef struct {
-    btoclFloat4 linearPerUnit, angularPerUnit;
-} btoclPerUnit;
-// Floats of a btoclPerUnit a slot keeps per lane (all but the last, unused).
+// bodies, their points (normal rows; 0: an unused lane, on the fixed body) and the first of them.
+enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_FIRST_POINT, BTOCL_LANE_INTS };
+// What a unit impulse does to a lane's body (btoclSolveBody's per-unit scales), kept per slot and
+// side, the warm start's (the factors always applied) and the other passes': linearPerUnit xyz,
+// 1 for a dynamic body (the only ones stored), angularPerUnit xyz; W floats each.
 #define BTOCL_LANE_PER_UNIT_FLOATS 7
 #define BTOCL_SOLVE_ROW_FLOATS 20
 // Where float `field` (btoclSolveRow's floats in order, 0 to 19) of wide row `index` lies.
@@ -358,7 +354,6 @@ static_assert(sizeof(btoclSolveRow) == 5 * 16, "btoclSolveRow layout");
 static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
 static_assert(sizeof(btoclLaneSlot) == 16, "btoclLaneSlot layout");
-static_assert(sizeof(btoclPerUnit) == 32, "btoclPerUnit layout");
 static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");
 static_assert(sizeof(btoclSetupParams) == 4 * 16, "btoclSetupParams layout");
 static_assert(sizeof(btoclRowRegions) == 2 * 16, "btoclRowRegions layout");

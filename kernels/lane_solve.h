@@ -4,8 +4,8 @@
 // Each lane does what btoclSolveConstraint does for its constraint, operation for operation, so
 // a lane's results are those of the one-lane walk to the bit (tests/test_lanes.cpp); a lane with
 // no row at some place is masked, never computed with zeros (that could turn a -0 velocity to +0).
-// Bodies are read W records at a time and turned into one vector per float (a transpose the
-// compiler makes of shuffles), rather than lane by lane through memory.
+// A slot's velocities are read W records at a time and turned into one vector per float (a
+// transpose the compiler makes of shuffles), rather than lane by lane through memory.
 #ifndef BTOCL_LANE_SOLVE_H
 #define BTOCL_LANE_SOLVE_H
 
@@ -16,8 +16,7 @@
 typedef struct {
     __global const btoclLaneSlot* slots;
     __global const int* lanes;             // BTOCL_LANE_INTS * W ints a slot
-    __global const btoclPerUnit* perUnit;  // two a body: the warm start's, the other passes'
-    __global const float* slotPerUnit;     // per slot and side, the other passes' (btoclCopySlotPerUnits)
+    __global const float* slotPerUnit;  // per slot and side, the warm start's and the others' (setupLaneSlots)
     __global const float* rows;
     int frictionPerPoint;
 } btoclLaneBuffers;
@@ -49,7 +48,7 @@ typedef BTOCL_CAT(int, BTOCL_LANES) btoclLanesI;
 #error "BTOCL_LANES must be 4, 8 or 16"
 #endif
 
-// A side's bodies of a slot's lanes: their per-unit scales (btoclPerUnit) and the velocities the
+// A side's bodies of a slot's lanes: their per-unit scales (BTOCL_LANE_PER_UNIT_FLOATS) and the velocities the
 // rows change (linear and angular, or push and turn), one vector per float.
 typedef struct {
     btoclLanesF lpuX, lpuY, lpuZ, apuX, apuY, apuZ;  // linearPerUnit, angularPerUnit
@@ -61,57 +60,32 @@ typedef struct {
 #define BTOCL_LOAD_RECORD(i) const float8 record##i = vload8(0, base + at.s##i);
 #define BTOCL_RECORD_FLOAT(i, f) record##i.s##f
 
-// A side's bodies of a slot's lanes: the velocities from the deltas; the per-unit scales from the
-// slot's own copy (btoclLaneBuffers::slotPerUnit), or in the warm start from each body's record.
+// A side's bodies of a slot's lanes: the velocities from the deltas, W records turned into
+// vectors; the per-unit scales from the slot's own copy (setupLaneSlots), one vector load each.
 BTOCL_SOLVE_INLINE btoclLaneBodies btoclLoadLaneBodies(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
                                                        int slot, int sideB, btoclLanesI body, int push,
                                                        int warmStart) {
     btoclLaneBodies l;
-    {
-        // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
-        __global const float* base = (__global const float*)b->deltas;
-        const btoclLanesI at = body * 16 + (push ? 8 : 0);
-        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
-        l.linX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
-        l.linY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
-        l.linZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
-        l.angX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
-        l.angY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
-        l.angZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
-    }
-    if (warmStart) {
-        __global const float* base = (__global const float*)lb->perUnit;
-        const btoclLanesI at = body * 16;
-        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
-        l.lpuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
-        l.lpuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
-        l.lpuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
-        l.dynamic = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 3);
-        l.apuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
-        l.apuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
-        l.apuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
-    } else {
-        __global const float* u = lb->slotPerUnit + (2 * slot + sideB) * (BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
-        l.lpuX = btoclLoadLanes(u);
-        l.lpuY = btoclLoadLanes(u + BTOCL_LANES);
-        l.lpuZ = btoclLoadLanes(u + 2 * BTOCL_LANES);
-        l.dynamic = btoclLoadLanes(u + 3 * BTOCL_LANES);
-        l.apuX = btoclLoadLanes(u + 4 * BTOCL_LANES);
-        l.apuY = btoclLoadLanes(u + 5 * BTOCL_LANES);
-        l.apuZ = btoclLoadLanes(u + 6 * BTOCL_LANES);
-    }
+    // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
+    __global const float* base = (__global const float*)b->deltas;
+    const btoclLanesI at = body * 16 + (push ? 8 : 0);
+    BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
+    l.linX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
+    l.linY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
+    l.linZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
+    l.angX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
+    l.angY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
+    l.angZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
+    __global const float* u =
+        lb->slotPerUnit + ((2 * slot + sideB) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
+    l.lpuX = btoclLoadLanes(u);
+    l.lpuY = btoclLoadLanes(u + BTOCL_LANES);
+    l.lpuZ = btoclLoadLanes(u + 2 * BTOCL_LANES);
+    l.dynamic = btoclLoadLanes(u + 3 * BTOCL_LANES);
+    l.apuX = btoclLoadLanes(u + 4 * BTOCL_LANES);
+    l.apuY = btoclLoadLanes(u + 5 * BTOCL_LANES);
+    l.apuZ = btoclLoadLanes(u + 6 * BTOCL_LANES);
     return l;
-}
-
-// The slot's per-unit scales of the passes after the warm start, side A's then B's, each float of
-// btoclPerUnit (its first 7) as W floats: one vector load each in every pass, where each body's
-// record would take a transpose.
-#define BTOCL_COPY_PER_UNIT(i)                                                      \
-    for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f)                            \
-        out[f * BTOCL_LANES + 0x##i] = ((__global const float*)(perUnit + 2 * body.s##i + 1))[f];
-BTOCL_SOLVE_INLINE void btoclCopySlotPerUnits(__global const btoclPerUnit* perUnit, btoclLanesI body,
-                                              __global float* out) {
-    BTOCL_EACH_LANE(BTOCL_COPY_PER_UNIT)
 }
 
 // The velocities back to each lane's dynamic body (btoclStoreSolveBody: others never change),

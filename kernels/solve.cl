@@ -328,34 +328,6 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
 }
 
 #if defined(BTOCL_LANES) && BTOCL_LANES > 1
-// The lanes' per-unit scales of every body (btoclPerUnit), two a body: the warm start's (the
-// factors applied, as SI does there), then the other passes' (with BTOCL_FLAG_APPLY_FACTORS).
-__kernel void setUpPerUnits(__global const btoclBody* bodies, __global const btoclBodyDelta* deltas,
-                            __global btoclPerUnit* perUnit, int numBodies, int flags) {
-    const int i = get_global_id(0);
-    if (i >= numBodies) return;
-    for (int which = 0; which < 2; ++which) {
-        const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
-        const btoclSolveBody s = btoclLoadSolveBody(bodies + i, deltas + i, 0, applyFactors);
-        btoclPerUnit u;
-        u.linearPerUnit = (float4)(s.linearPerUnit.xyz, s.dynamic);
-        u.angularPerUnit = (float4)(s.angularPerUnit.xyz, 0.0f);
-        perUnit[2 * i + which] = u;
-    }
-}
-
-// Each slot's per-unit scales, side A's then B's (btoclCopySlotPerUnits), from setUpPerUnits'.
-__kernel void setUpSlotPerUnits(__global const btoclPerUnit* perUnit, __global const int* lanes,
-                                __global float* slotPerUnit, int numSlots) {
-    const int slot = get_global_id(0);
-    if (slot >= numSlots) return;
-    __global const int* ints = lanes + slot * (BTOCL_LANE_INTS * BTOCL_LANES);
-    __global float* out = slotPerUnit + 2 * slot * (BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
-    btoclCopySlotPerUnits(perUnit, BTOCL_CAT(vload, BTOCL_LANES)(0, ints + BTOCL_LANE_BODY_A * BTOCL_LANES), out);
-    btoclCopySlotPerUnits(perUnit, BTOCL_CAT(vload, BTOCL_LANES)(0, ints + BTOCL_LANE_BODY_B * BTOCL_LANES),
-                          out + BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
-}
-
 // A step in lanes (a CPU's vector unit; kernels/lane_solve.h), claimed as solveStepClaimed claims
 // groups: `groups` are the bundles, setGroupStart the sets' bundles, numSlots every bundle's
 // slots. The warm start and every pass of a step that the lanes take (StepPolicy.cpp: contact
@@ -364,10 +336,9 @@ __kernel void setUpSlotPerUnits(__global const btoclPerUnit* perUnit, __global c
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
     float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,
-    __global const btoclPerUnit* perUnit, __global const float* slotPerUnit, __global const float* wideRows,
-    int frictionPerPoint) {
+    __global const float* slotPerUnit, __global const float* wideRows, int frictionPerPoint) {
     const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
-    const btoclLaneBuffers lb = {slots, lanes, perUnit, slotPerUnit, wideRows, frictionPerPoint};
+    const btoclLaneBuffers lb = {slots, lanes, slotPerUnit, wideRows, frictionPerPoint};
     claimedStep(&b, &lb, BTOCL_LANES, groups, batchEnd, control, setGroupStart, progress, numSlots, flags, threshold,
                 schedule);
 }

@@ -23,6 +23,7 @@ namespace {
 
 btOpenCLSolverConfig lanesConfig(int simdLanes) {
     btOpenCLSolverConfig c = validatingConfig();  // the lane layout checked every step too
+    c.solvePath = btOpenCLSolvePath::Serial;      // the path a CPU runs, whatever the environment says
     c.hostStepMaxRows = 0;                        // every step on the device ...
     c.wholeStepMaxRows = 0;                       // ... and split: the steps the lanes take
     c.simdLanes = simdLanes;

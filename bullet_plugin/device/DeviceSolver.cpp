@@ -6,6 +6,7 @@ namespace btocl {
 namespace {
 
 constexpr size_t kLanes = 64;  // local size of the launches over constraints, rows and points
+constexpr size_t kSlotsPerGroup = 8;  // local size of setupLaneSlots
 
 }  // namespace
 
@@ -28,9 +29,7 @@ DeviceSolver::DeviceSolver(const OclRuntime& runtime, DevicePrimitives& primitiv
     m_impulsesToGatherOrder = m_rt.makeKernel(program, "impulsesToGatherOrder");
     if (m_rt.stepProgramLanes() > 1) {
         m_inLanes = m_rt.makeKernel(program, "solveStepInLanes");
-        m_perUnits = m_rt.makeKernel(program, "setUpPerUnits");
-        m_slotPerUnits = m_rt.makeKernel(program, "setUpSlotPerUnits");
-        m_transposeRows = m_rt.makeKernel(program, "transposeRowsToLanes");
+        m_setupLanes = m_rt.makeKernel(program, "setupLaneSlots");
     }
 }
 
@@ -84,16 +83,10 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
-    setUpContactRows(p, m_rowMap.buffer(), m_applied.buffer(), 1);
-}
-
-// The contact rows from the points, to their places (`rowMap`'s) in the solve's order, or (lanes >
-// 1) as records for transposeRowsToLanes, their impulses to `applied`.
-void DeviceSolver::setUpContactRows(StepProblem& p, const cl::Buffer& rowMap, const cl::Buffer& applied, int lanes) {
     p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
     m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
-    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), rowMap, m_rows.buffer(), m_normalOfRow.buffer(),
-            applied, m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams, lanes);
+    setArgs(m_setupRows, m_points.buffer(), m_bodies.buffer(), m_rowMap.buffer(), m_rows.buffer(),
+            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams);
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
@@ -102,38 +95,28 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout of " + std::to_string(lanes.lanes) +
                                   " lanes for a program of " + std::to_string(m_rt.stepProgramLanes()));
     const size_t places = size_t(lanes.numBlocks) * size_t(lanes.lanes);
-    m_rows.reserve(m_rt, places);  // the rows as records first, then in blocks (transposeRowsToLanes)
+    m_numSlots = int(lanes.slots.size());
+    m_frictionPerPoint = lanes.frictionPerPoint;
     m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
-    m_setupImpulses.reserve(m_rt, places);
     m_applied.reserve(m_rt, places);
     m_pushApplied.reserve(m_rt, places);
+    m_slotPerUnit.reserve(m_rt, size_t(m_numSlots) * 4 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
     m_placed.reserve(m_rt, 1);  // bound, unread
+    m_rows.reserve(m_rt, 1);
     m_normalOfRow.reserve(m_rt, 1);
     m_bundles.enqueueWrite(m_rt, lanes.bundles);
     m_setBundleStart.enqueueWrite(m_rt, lanes.setBundleStart.data(), lanes.setBundleStart.size());
     m_slots.enqueueWrite(m_rt, lanes.slots);
     m_lanes.enqueueWrite(m_rt, lanes.laneInts);
-    const int numBodies = int(p.bodies.size());
-    m_perUnit.reserve(m_rt, 2 * size_t(numBodies));
-    setArgs(m_perUnits, m_bodies.buffer(), m_deltas.buffer(), m_perUnit.buffer(), numBodies, settings.flags);
-    m_rt.launch(m_perUnits, size_t(numBodies), kLanes, "launching setUpPerUnits");
-    const int numSlots = int(lanes.slots.size());
-    m_slotPerUnit.reserve(m_rt, size_t(numSlots) * 2 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
-    if (numSlots > 0) {
-        setArgs(m_slotPerUnits, m_perUnit.buffer(), m_lanes.buffer(), m_slotPerUnit.buffer(), numSlots);
-        m_rt.launch(m_slotPerUnits, size_t(numSlots), kLanes, "launching setUpSlotPerUnits");
-    }
     m_rowMap.enqueueWrite(m_rt, lanes.rowMap);
-    m_setupMap.enqueueWrite(m_rt, lanes.setupMap);
-    m_numSlots = int(lanes.slots.size());
-    m_frictionPerPoint = lanes.frictionPerPoint;
-    if (numSlots > 0 && !p.points.empty()) {
-        setUpContactRows(p, m_setupMap.buffer(), m_setupImpulses.buffer(), lanes.lanes);
-        setArgs(m_transposeRows, m_rows.buffer(), m_setupImpulses.buffer(), m_slots.buffer(), m_lanes.buffer(),
-                m_wideRows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), numSlots, lanes.lanes,
-                lanes.frictionPerPoint);
-        m_rt.launch(m_transposeRows, size_t(numSlots), kLanes, "launching transposeRowsToLanes");
-    }
+    if (m_numSlots == 0) return;
+    p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
+    m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
+    setArgs(m_setupLanes, m_points.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_slots.buffer(), m_lanes.buffer(),
+            m_wideRows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_slotPerUnit.buffer(),
+            m_lateralDirs.buffer(), p.setupParams, m_numSlots, settings.flags);
+    // Few work-items a group: a slot is many points' work.
+    m_rt.launch(m_setupLanes, size_t(m_numSlots), kSlotsPerGroup, "launching setupLaneSlots");
 }
 
 // The buffers every solve kernel takes first, arguments 0 to kSolveBufferArgs - 1, in the order
@@ -212,8 +195,8 @@ void DeviceSolver::launchInLanes(const StepPlan& plan, const SolveSettings& s) {
             m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(),
             m_control.buffer());
     setArgsFrom(m_inLanes, kSolveBufferArgs, m_setBundleStart.buffer(), m_progress.buffer(), m_numSlots, s.flags,
-                s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_perUnit.buffer(),
-                m_slotPerUnit.buffer(), m_wideRows.buffer(), m_frictionPerPoint);
+                s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_slotPerUnit.buffer(),
+                m_wideRows.buffer(), m_frictionPerPoint);
     m_rt.launch(m_inLanes, size_t(workGroups), 1, "launching solveStepInLanes");
 }
 
@@ -240,7 +223,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     warm.launch(m_placeRows, grid, kLanes);
     btoclSetupParams noPoints{};
     noPoints.numPoints = 0;
-    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints, 1);
+    setArgs(m_setupRows, z, z, z, z, z, z, z, z, noPoints);
     warm.launch(m_setupRows, grid, kLanes);
     setArgs(m_impulsesToGatherOrder, z, z, z, none);
     warm.launch(m_impulsesToGatherOrder, grid, kLanes);
@@ -260,14 +243,10 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     }
     if (m_inLanes()) {
         bindScratch(m_inLanes, z);
-        setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, z, 1);
+        setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, 1);
         warm.launch(m_inLanes, m_rt.computeUnits(), 1);
-        setArgs(m_perUnits, z, z, z, none, none);
-        warm.launch(m_perUnits, grid, kLanes);
-        setArgs(m_slotPerUnits, z, z, z, none);
-        warm.launch(m_slotPerUnits, grid, kLanes);
-        setArgs(m_transposeRows, z, z, z, z, z, z, z, none, none, none);
-        warm.launch(m_transposeRows, grid, kLanes);
+        setArgs(m_setupLanes, z, z, z, z, z, z, z, z, z, z, noPoints, none, none);
+        warm.launch(m_setupLanes, grid, kSlotsPerGroup);
     }
     if (!lanes.localBatches) return;
     if (wg > 1) {

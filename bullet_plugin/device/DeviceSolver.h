@@ -64,15 +64,14 @@ private:
     void launchClaimed(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout,
                        const SolveSettings& settings, int workGroups);
     void launchInLanes(const StepPlan& plan, const SolveSettings& settings);
-    void setUpContactRows(StepProblem& p, const cl::Buffer& rowMap, const cl::Buffer& applied, int lanes);
     void clearProgress(const btoclPassSchedule& passes, int workGroups);
 
 
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*
-    // solveStepInLanes and setUpPerUnits, where the program has lanes (OclRuntime::stepProgramLanes)
-    cl::Kernel m_inLanes, m_perUnits, m_slotPerUnits, m_transposeRows;
+    // solveStepInLanes and setupLaneSlots, where the program has lanes (OclRuntime::stepProgramLanes)
+    cl::Kernel m_inLanes, m_setupLanes;
     cl::Kernel m_endIteration, m_wholeStep, m_claimed, m_setupRows, m_countRows, m_placeConstraints, m_placeRows, m_impulsesToGatherOrder;
     DeviceBuffer<btoclBody> m_bodies;
     DeviceBuffer<btoclBodyDelta> m_deltas;
@@ -91,9 +90,6 @@ private:
     DeviceBuffer<int> m_setBundleStart;
     DeviceBuffer<btoclLaneSlot> m_slots;
     DeviceBuffer<int> m_lanes;
-    DeviceBuffer<btoclPerUnit> m_perUnit;
-    DeviceBuffer<int> m_setupMap;        // where the setup writes each row's record (LaneLayout::setupMap)
-    DeviceBuffer<float> m_setupImpulses;  // ... and its starting impulse
     DeviceBuffer<float> m_slotPerUnit;
     DeviceBuffer<float> m_wideRows;
     int m_numSlots = 0, m_frictionPerPoint = 1;

@@ -41,7 +41,6 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     out.laneInts.clear();
     out.laneConstraint.clear();
     out.rowMap.assign(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]), -1);
-    out.setupMap.resize(out.rowMap.size());
     out.usedLanes = 0;
     out.usedRowPlaces = 0;
     int normalBlocks = 0, frictionBlocks = 0;  // friction blocks counted from the friction region's start
@@ -107,8 +106,6 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
                             constraints[split.solveOrder[std::size_t(g.offset + cur.position + kPrefetchAhead / 2)]];
                         prefetch(out.rowMap.data() + ahead.firstRow[BTOCL_ROWS_NORMAL]);
                         prefetch(out.rowMap.data() + ahead.firstRow[BTOCL_ROWS_FRICTION]);
-                        prefetch(out.setupMap.data() + ahead.firstRow[BTOCL_ROWS_NORMAL]);
-                        prefetch(out.setupMap.data() + ahead.firstRow[BTOCL_ROWS_FRICTION]);
                     }
                     const int ci = split.solveOrder[std::size_t(g.offset + cur.position++)];
                     const btoclConstraint& c = constraints[ci];
@@ -121,30 +118,18 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
                     out.laneInts[ints + BTOCL_LANE_BODY_A * W + i] = c.bodyA;
                     out.laneInts[ints + BTOCL_LANE_BODY_B * W + i] = c.bodyB;
                     out.laneInts[ints + BTOCL_LANE_POINTS * W + i] = points;
+                    out.laneInts[ints + BTOCL_LANE_FIRST_POINT * W + i] = c.firstRow[BTOCL_ROWS_NORMAL];
                     out.laneConstraint.push_back(ci);
+                    const int lane = int(i);
+                    for (int k = 0; k < points; ++k)
+                        out.rowMap[std::size_t(c.firstRow[BTOCL_ROWS_NORMAL] + k)] = (normalBlocks + k) * lanes + lane;
+                    for (int k = 0; k < points * frictionPerPoint; ++k)
+                        out.rowMap[std::size_t(c.firstRow[BTOCL_ROWS_FRICTION] + k)] = (frictionBlocks + k) * lanes + lane;
                     slot.normalBlocks = std::max(slot.normalBlocks, points);
                     out.usedLanes += 1;
                     out.usedRowPlaces += points * (1 + frictionPerPoint);
                 }
                 slot.frictionBlocks = slot.normalBlocks * frictionPerPoint;
-                // Each row's place in the blocks, and in the setup's: lane after lane, each lane's
-                // rows of a kind together (as the slot's blocks hold them, turned).
-                const int* laneConstraints = out.laneConstraint.data() + out.laneConstraint.size() - W;
-                for (std::size_t i = 0; i < W; ++i) {
-                    if (laneConstraints[i] < 0) continue;
-                    const btoclConstraint& c = constraints[laneConstraints[i]];
-                    const int lane = int(i);
-                    for (int k = 0; k < c.numRows[BTOCL_ROWS_NORMAL]; ++k) {
-                        const std::size_t r = std::size_t(c.firstRow[BTOCL_ROWS_NORMAL] + k);
-                        out.rowMap[r] = (normalBlocks + k) * lanes + lane;
-                        out.setupMap[r] = normalBlocks * lanes + lane * slot.normalBlocks + k;
-                    }
-                    for (int k = 0; k < c.numRows[BTOCL_ROWS_FRICTION]; ++k) {
-                        const std::size_t r = std::size_t(c.firstRow[BTOCL_ROWS_FRICTION] + k);
-                        out.rowMap[r] = (frictionBlocks + k) * lanes + lane;
-                        out.setupMap[r] = frictionBlocks * lanes + lane * slot.frictionBlocks + k;
-                    }
-                }
                 normalBlocks += slot.normalBlocks;
                 frictionBlocks += slot.frictionBlocks;
                 out.slots.push_back(slot);
@@ -157,7 +142,6 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     const int frictionShift = normalBlocks * lanes;
     for (int r = regions.start[BTOCL_ROWS_FRICTION]; r < regions.start[BTOCL_ROWS_ROLLING]; ++r) {
         out.rowMap[std::size_t(r)] += frictionShift;
-        out.setupMap[std::size_t(r)] += frictionShift;
     }
     out.numBlocks = normalBlocks + frictionBlocks;
 }
@@ -207,7 +191,8 @@ std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
                     lastGroup = g;
                     lastPosition = k;
                     if (ints[BTOCL_LANE_BODY_A * W + i] != c.bodyA || ints[BTOCL_LANE_BODY_B * W + i] != c.bodyB ||
-                        ints[BTOCL_LANE_POINTS * W + i] != c.numRows[BTOCL_ROWS_NORMAL])
+                        ints[BTOCL_LANE_POINTS * W + i] != c.numRows[BTOCL_ROWS_NORMAL] ||
+                        ints[BTOCL_LANE_FIRST_POINT * W + i] != c.firstRow[BTOCL_ROWS_NORMAL])
                         return "a lane's ints are not its constraint's";
                     const btoclLaneSlot& s = l.slots[slot];
                     for (int kind : {int(BTOCL_ROWS_NORMAL), int(BTOCL_ROWS_FRICTION)}) {

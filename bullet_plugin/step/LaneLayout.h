@@ -24,9 +24,6 @@ struct LaneLayout {
     std::vector<int> laneInts;        // per slot, BTOCL_LANE_INTS * W ints (btocl_shared.h)
     std::vector<int> laneConstraint;  // per slot and lane (s * W + i): its constraint, or -1
     std::vector<int> rowMap;          // per row in gather order: its wide row index (block * W + lane)
-    // ... and where the setup writes it as a record (transposeRowsToLanes turns a slot's records
-    // into its blocks): its slot's places, lane after lane, each lane's rows of a kind together.
-    std::vector<int> setupMap;
     int numBlocks = 0;                // blocks of W rows, normal ones first
     long long usedLanes = 0;          // slots' lanes that hold a constraint
     long long usedRowPlaces = 0;      // rows placed, of numBlocks * W places
