@@ -130,14 +130,6 @@ public:
                 "filling a device buffer");
     }
 
-    // Enqueues zero bytes over the whole capacity (of any record size: a byte pattern).
-    void clear(const OclRuntime& rt) {
-        if (!m_buffer() || m_capacity == 0) return;
-        const cl_uchar zero = 0;
-        checkCl(rt.queue().enqueueFillBuffer(m_buffer, zero, 0, m_capacity * sizeof(T), nullptr, rt.phaseEvent()),
-                "clearing a device buffer");
-    }
-
     const cl::Buffer& buffer() const { return m_buffer; }
     size_t capacity() const { return m_capacity; }
 
