@@ -98,9 +98,8 @@ int resolveSimdLanes(int asked, const OclRuntime& runtime) {
         throw btOpenCLSolverError("btOpenCLConstraintSolver: simdLanes is " + std::to_string(asked) +
                                   "; it takes -1 (automatic), 1, 4, 8 or 16");
     if (!runtime.isCpu()) return 1;  // a GPU's lanes are the wide path's work-items
-    // Automatic: one group a work-item. On this project's 2-core PoCL machine the lanes cut the
-    // solve phase of the split scenes by a fifth to a third but cost as much again in the setup (the
-    // lane layout, the rows turned into blocks) and the host's split (docs/performance.md, "Lanes").
+    // Automatic: one group a work-item. On the test machine the lanes' faster solve was given back
+    // in their setup and the host's split they need (docs/performance.md, "Lanes").
     return asked > 0 ? asked : 1;
 }
 
