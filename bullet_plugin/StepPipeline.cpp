@@ -162,8 +162,7 @@ void StepPipeline::iterateAndDownload(StepProblem& p, const StepPlan& step, cons
 void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
                                 btOpenCLSolverStats& s, double msHostSplit) {
     const auto t0 = std::chrono::steady_clock::now();
-    const int frictionPerPoint = (p.setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
-    layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), frictionPerPoint,
+    layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), p.frictionRowsPerPoint(),
                 int(m_runtime.computeUnits()), m_laneLayout);
     const double msLayout = msSince(t0);
     if (m_config.validate) {

@@ -72,8 +72,7 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
 // lanes keep (each lane walks its group as btoclSolveConstraint does in passes that pair:
 // btoclPassPairs), and the contacts' iterations all there are.
 bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
-    const int frictionPerPoint = (p.setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
-    return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, frictionPerPoint) &&
+    return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
            passes.maxIterations == passes.numIterations &&
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }

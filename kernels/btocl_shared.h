@@ -322,11 +322,11 @@ typedef struct {
 } btoclGroup;
 
 // The lanes layout (a CPU's vector unit; docs/architecture.md, "Lanes"). Groups of one set share
-// no dynamic body, so W of them are walked side by side, one per lane: a **bundle**. At each of
-// its **slots** lane i holds the next constraint of its group, and the slot's rows lie in blocks of
-// W rows, one per lane, each float of the W rows together (a row's 20 floats in
-// btoclSolveRow's order), so that a vector load reads one float of every lane's row. Rows of a slot's
-// kind k lie in block first + k; a lane whose constraint has fewer rows leaves its place unused.
+// no dynamic body, so W runs of them are walked side by side, one per lane: a **bundle**. At each
+// of its **slots** lane i holds the next constraint of its run, and the slot's rows lie in blocks
+// of W rows, one per lane, each float of the W rows together (a row's 20 floats in
+// btoclSolveRow's order), so that a vector load reads one float of every lane's row. Rows of a
+// slot's kind k lie in block first + k; a lane whose constraint has fewer rows holds zeros there.
 typedef struct {
     int normalBlock;     // first block of the slot's normal rows (rows normalBlock * W + lane)
     int normalBlocks;    // the most normal rows (points) of its lanes' constraints

@@ -1,6 +1,6 @@
 // A bundle's slots solved W constraints at a time, one per lane of the vector unit
 // (btocl_shared.h, btoclLaneSlot; docs/architecture.md, "Lanes"). OpenCL C only: the program is
-// built with -DBTOCL_LANES=W (4, 8 or 16, from the device) where the solver runs in lanes.
+// built with -DBTOCL_LANES=W (4, 8 or 16: btOpenCLSolverConfig::simdLanes) where the solver runs in lanes.
 // Each lane does what btoclSolveConstraint does for its constraint, operation for operation, so
 // a lane's results are those of the one-lane walk to the bit (tests/test_lanes.cpp); a lane with
 // no row at some place is masked, never computed with zeros (that could turn a -0 velocity to +0).
@@ -211,7 +211,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
 
 // A bundle (a btoclGroup whose offset and count are its slots) in one pass, slot after slot.
 BTOCL_SOLVE_INLINE float btoclSolveLaneBundle(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
-                                              btoclGroup bundle, int pass, int flags) {
+                                              btoclGroup bundle, int pass) {
     const int end = bundle.offset + bundle.count;
     for (int slot = bundle.offset; slot < end; ++slot) btoclSolveLaneSlot(b, lb, slot, pass, slot + 1 < end);
     return 0.0f;

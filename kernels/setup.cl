@@ -74,7 +74,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
 // in the solve; no float left uninitialised).
 inline void storeLaneRow(__global float* wide, __global float* applied, __global float* pushApplied, int block,
                          int lane, btoclSolveRow r, float impulse) {
-    __global float* out = wide + block * (BTOCL_SOLVE_ROW_FLOATS * BTOCL_LANES) + lane;
+    __global float* out = wide + btoclWideRowFloat(block * BTOCL_LANES + lane, 0, BTOCL_LANES);
     const float4 parts[5] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA,
                              r.angularComponentB};
     for (int v = 0; v < 5; ++v) {

@@ -292,7 +292,7 @@ BTOCL_SOLVE_INLINE void claimedStep(const btoclSolveBuffers* bp, const btoclLane
                             const btoclGroup g = groups[group];
 #if defined(BTOCL_LANES) && BTOCL_LANES > 1
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                         \
-    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS, flags)                                             \
+    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS)                                                    \
                : solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, \
                                        passSeed))
 #else

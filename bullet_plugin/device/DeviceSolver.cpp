@@ -191,9 +191,9 @@ void DeviceSolver::launchInLanes(const StepPlan& plan, const SolveSettings& s) {
     const btoclPassSchedule& passes = plan.passes();
     const int workGroups = int(m_rt.computeUnits());
     clearProgress(passes, workGroups);
-    setArgs(m_inLanes, m_bundles.buffer(), m_bundles.buffer(), m_placed.buffer(), m_rows.buffer(),
-            m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_bodies.buffer(), m_deltas.buffer(),
-            m_control.buffer());
+    DeviceLayoutView bundles;  // the bundles in the groups' place; batchEnd is unread
+    bundles.groups = bundles.batchEnd = &m_bundles.buffer();
+    bindSolveBuffers(m_inLanes, bundles);
     setArgsFrom(m_inLanes, kSolveBufferArgs, m_setBundleStart.buffer(), m_progress.buffer(), m_numSlots, s.flags,
                 s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_slotPerUnit.buffer(),
                 m_wideRows.buffer(), m_frictionPerPoint);

@@ -66,7 +66,6 @@ private:
     void launchInLanes(const StepPlan& plan, const SolveSettings& settings);
     void clearProgress(const btoclPassSchedule& passes, int workGroups);
 
-
     const OclRuntime& m_rt;
     DevicePrimitives& m_primitives;
     std::array<cl::Kernel, BTOCL_NUM_PASSES> m_passKernels;  // by BTOCL_PASS_*

@@ -66,6 +66,10 @@ struct StepProblem {
     // A contact point's first friction row: each point's one or two friction rows (frictionRows),
     // in point order, as the gather lays them out.
     int firstFrictionRowOf(int point, int frictionRows) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRows; }
+    // Each point's friction rows: two with SOLVER_USE_2_FRICTION_DIRECTIONS, else one.
+    int frictionRowsPerPoint() const {
+        return (setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
     int maxIterations(int numIterations) const { return std::max(numIterations, jointIterations); }
 };
