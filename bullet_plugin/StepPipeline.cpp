@@ -82,10 +82,13 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
 void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step,
                                const SolveSettings& settings, btOpenCLSolverStats& s) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (p.rowsOnDevice) setupRowsOnHost(p, bullet);
+    // Rows the gather left to a device go straight into the host solve's arrays.
+    const bool setHere = p.rowsOnDevice;
+    if (setHere) setupRowsOnHost(p, bullet, &m_hostSolve);
     s.msSetup = msSince(t0);
     const auto t1 = std::chrono::steady_clock::now();
-    s.numIterationsRun = m_hostSolve.solve(p, step.passes(), settings);
+    s.numIterationsRun = setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings)
+                                 : m_hostSolve.solve(p, step.passes(), settings);
     s.msSolve = msSince(t1);
     s.solvedOnHost = true;
     s.numGroups = p.constraints.empty() ? 0 : 1;

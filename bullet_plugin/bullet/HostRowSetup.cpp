@@ -26,17 +26,27 @@ btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direct
 
 }  // namespace
 
-void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
+void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
     // The joints' rows, where the gather has set them up already (then `rows` holds them alone):
-    // they move up behind the contact rows, in the same array. Every normal and friction row is
-    // written below, over whatever the move left there.
+    // they move up behind the contact rows, in the same array, unless the rows go `into` a host
+    // solve. Every normal and friction row is written below, over whatever the move left there.
     const size_t numJointRows = p.rowsOnDevice ? p.rows.size() : 0;
     const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
-    p.rows.resize(size_t(rollingBase) + numJointRows);
-    std::copy_backward(p.rows.begin(), p.rows.begin() + numJointRows, p.rows.end());
+    if (into) {
+        into->beginRows(size_t(p.numRows()));  // as many or more: a rolling row may be left out
+    } else {
+        p.rows.resize(size_t(rollingBase) + numJointRows);
+        std::copy_backward(p.rows.begin(), p.rows.begin() + numJointRows, p.rows.end());
+    }
+    auto put = [&](int index, const btoclRow& row, int kind) {
+        if (into)
+            into->setRow(index, row, kind);
+        else
+            p.rows[size_t(index)] = row;
+    };
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
     for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
@@ -54,7 +64,7 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
             const btoclBody& A = p.bodies[size_t(pt.bodyA)];
             const btoclBody& B = p.bodies[size_t(pt.bodyB)];
             const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
-            p.rows[size_t(i)] = btoclNormalRow(&pt, &A, &B, &f, &prm);
+            put(i, btoclNormalRow(&pt, &A, &B, &f, &prm), BTOCL_ROWS_NORMAL);
 
             if (pt.firstRollingRow >= 0) {
                 pt.firstRollingRow = rollingBase + int(rolling.size());
@@ -79,20 +89,29 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet) {
             }
             p.lateralDirs[2 * size_t(i)] = ff.dir1;
             p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
-            p.rows[size_t(pt.firstFrictionRow)] = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, i);
+            put(pt.firstFrictionRow, btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, i),
+                BTOCL_ROWS_FRICTION);
             if (two)
-                p.rows[size_t(pt.firstFrictionRow) + 1] =
-                    btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, i);
+                put(pt.firstFrictionRow + 1, btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, i),
+                    BTOCL_ROWS_FRICTION);
         }
         c.numRows[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size()) - c.firstRow[BTOCL_ROWS_ROLLING];
     }
     p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
                                   int(rolling.size()), p.numJointRows());
-    p.rows.insert(p.rows.begin() + rollingBase, rolling.begin(), rolling.end());
     // Rolling rows left out move the joints' rows down.
     const int jointShift = p.rowStart(BTOCL_ROWS_JOINT) - jointStart;
     for (btoclConstraint& c : p.constraints)
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) c.firstRow[BTOCL_ROWS_JOINT] += jointShift;
+    if (into) {
+        // p.rows keeps the joints' rows alone, as the device's steps leave it (p.rowsOnDevice).
+        into->beginRows(size_t(p.numRows()));
+        for (size_t k = 0; k < rolling.size(); ++k) into->setRow(rollingBase + int(k), rolling[k], BTOCL_ROWS_ROLLING);
+        for (size_t k = 0; k < numJointRows; ++k)
+            into->setRow(p.rowStart(BTOCL_ROWS_JOINT) + int(k), p.rows[k], BTOCL_ROWS_JOINT);
+        return;
+    }
+    p.rows.insert(p.rows.begin() + rollingBase, rolling.begin(), rolling.end());
     p.rowsOnDevice = false;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "BulletStep.h"
+#include "HostSolve.h"
 #include "StepProblem.h"
 
 namespace btocl {
@@ -16,6 +17,9 @@ namespace btocl {
 // objects from `bullet`); clears p.rowsOnDevice. A rolling row whose anisotropic axis vanishes is
 // left out, as SI leaves it out: the rolling rows, the joints' rows after them, and the
 // constraints' and points' references to them, are renumbered.
-void setupRowsOnHost(StepProblem& p, const BulletStep& bullet);
+// With `into`, the rows go straight into that host solve (HostSolve::setRow) instead: p.rows and
+// p.rowsOnDevice are left as they were (the joints' rows alone, or none), ready for
+// HostSolve::solveRowsSet.
+void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into = nullptr);
 
 }  // namespace btocl

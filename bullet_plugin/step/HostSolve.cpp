@@ -1,7 +1,6 @@
 #include "HostSolve.h"
 
 #include "StepPlan.h"
-#include "row_setup.h"
 #include "row_solve.h"
 
 #include <algorithm>
@@ -82,22 +81,25 @@ float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, 
     }
 }
 
+void HostSolve::beginRows(size_t numRows) {
+    m_rows.resize(numRows);
+    m_normalOfRow.resize(numRows);
+    m_applied.resize(numRows);
+    m_pushApplied.resize(numRows);
+}
+
 int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
                      const BatchLayout* layout) {
-    const size_t n = p.rows.size();
-    m_rows.resize(n);
-    m_normalOfRow.assign(n, -1);
-    m_applied.resize(n);
-    m_pushApplied.resize(n);
+    beginRows(p.rows.size());
     for (const btoclConstraint& c : p.constraints)
         for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind)
-            for (int r = c.firstRow[kind]; r < c.firstRow[kind] + c.numRows[kind]; ++r) {
-                const btoclRow& row = p.rows[size_t(r)];
-                m_rows[size_t(r)] = btoclSolveRowOf(row, kind);
-                m_normalOfRow[size_t(r)] = row.frictionIndex;
-                m_applied[size_t(r)] = BTOCL_ROW_APPLIED(row);
-                m_pushApplied[size_t(r)] = BTOCL_ROW_APPLIED_PUSH(row);
-            }
+            for (int r = c.firstRow[kind]; r < c.firstRow[kind] + c.numRows[kind]; ++r)
+                setRow(r, p.rows[size_t(r)], kind);
+    return solveRowsSet(p, passes, settings, layout);
+}
+
+int HostSolve::solveRowsSet(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
+                            const BatchLayout* layout) {
     m_pairsSolved = 0;
     const bool track = (settings.flags & BTOCL_FLAG_TRACK_RESIDUAL) != 0;
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);

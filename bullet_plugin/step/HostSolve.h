@@ -7,6 +7,7 @@
 #include "BatchLayout.h"
 #include "SolveSettings.h"
 #include "StepProblem.h"
+#include "row_setup.h"
 
 #include <vector>
 
@@ -21,6 +22,20 @@ public:
     // arrays are kept from call to call.
     int solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
               const BatchLayout* layout = nullptr);
+
+    // A host step's rows put here as they are set up (setupRowsOnHost with a HostSolve), rather
+    // than set up into p.rows and converted: room for `numRows` rows, then setRow at each gather
+    // index, then solveRowsSet, which solves them as solve() would.
+    void beginRows(size_t numRows);
+    void setRow(int index, const btoclRow& row, int kind) {
+        const size_t i = size_t(index);
+        m_rows[i] = btoclSolveRowOf(row, kind);
+        m_normalOfRow[i] = row.frictionIndex;
+        m_applied[i] = BTOCL_ROW_APPLIED(row);
+        m_pushApplied[i] = BTOCL_ROW_APPLIED_PUSH(row);
+    }
+    int solveRowsSet(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
+                     const BatchLayout* layout = nullptr);
 
     // Two adjacent constraints that share no dynamic body are solved side by side where a pass
     // allows (btoclSolveContactPair), with the bits of one after the other; off, never (the tests
