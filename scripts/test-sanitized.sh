@@ -12,4 +12,4 @@ bash scripts/setup.sh
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DBTOCL_SANITIZE=ON -DBTOCL_BUILD_DEMOS=OFF >/dev/null
 cmake --build build-asan -j "$(nproc)"
 cd build-asan
-ctest --output-on-failure -j 1 "$@"
+ctest --output-on-failure -j "$(nproc)" "$@"

@@ -5,4 +5,5 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
 cd build
-ctest --output-on-failure -j 1 "$@"
+# One test per core: a test spends much of its time starting PoCL or compiling, one thread.
+ctest --output-on-failure -j "$(nproc)" "$@"
