@@ -50,7 +50,7 @@ enum class Transfers { AsDevice, Copied, CopiedFromPinned };
 // with the lanes of the path under test, launched as `mode` says.
 // Returns the velocity iterations run; `rows`, when given, gets the rows as the device left them.
 inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveSettings& settings,
-                         std::vector<btoclRow>* rows = nullptr, StepMode mode = StepMode::PerSet,
+                         RowArray* rows = nullptr, StepMode mode = StepMode::PerSet,
                          Transfers transfers = Transfers::AsDevice) {
     OclRuntime rt("");
     if (transfers != Transfers::AsDevice) rt.transferByCopy();
@@ -73,7 +73,10 @@ inline int solveOnDevice(StepProblem& p, const BatchLayout& layout, const SolveS
     solver.arrange(p, view);
     solver.iterate(p, plan, view, settings);
     const int iterations = solver.download(p, plan, settings);
-    if (rows) *rows = DeviceSolveProbe::downloadRows(solver, p);
+    if (rows) {
+        const auto downloaded = DeviceSolveProbe::downloadRows(solver, p);
+        rows->assign(downloaded.begin(), downloaded.end());
+    }
     return iterations;
 }
 

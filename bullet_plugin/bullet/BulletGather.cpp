@@ -209,7 +209,7 @@ void StepGatherer::addJointRows() {
     // the step's every row from the steps before: then they are copied there, and a host row
     // setup after them fits the contact rows in without a new array (each a fresh allocation to
     // fault in).
-    std::vector<btoclRow>& rows = m_bullet.joints.rows;
+    RowArray& rows = m_bullet.joints.rows;
     const size_t contactRows = size_t(p.rowStart(BTOCL_ROWS_JOINT));
     if (p.rows.empty() && (contactRows == 0 || p.rows.capacity() < contactRows + rows.size()))
         p.rows.swap(rows);

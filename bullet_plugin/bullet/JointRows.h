@@ -7,6 +7,7 @@
 #pragma once
 
 #include "HostArray.h"
+#include "StepProblem.h"
 #include "btocl_shared.h"
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
@@ -40,7 +41,7 @@ struct JointRowSet {
     std::vector<StepJoint> joints;  // every constraint passed, in the order passed
     // The rows of all joints, joint after joint in that order (SI's m_tmpSolverNonContactConstraintPool).
     // The gather moves them into the step's rows (StepProblem::rows), leaving this empty.
-    std::vector<btoclRow> rows;
+    RowArray rows;
     // One per joint with rows, in the same order: rows [firstRow, firstRow + numRows) of kind
     // BTOCL_ROWS_JOINT index `rows` (no rows of other kinds); position.w is the joint's iteration
     // count, and its xyz the joint's split point once placeJointSplitPoints has placed it.

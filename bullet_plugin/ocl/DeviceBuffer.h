@@ -98,7 +98,10 @@ public:
         checkCl(rt.queue().enqueueWriteBuffer(m_buffer, CL_FALSE, 0, n * sizeof(T), data, nullptr, rt.phaseEvent()),
                 "writing a device buffer");
     }
-    void enqueueWrite(const OclRuntime& rt, const std::vector<T>& data) { enqueueWrite(rt, data.data(), data.size()); }
+    template <class Allocator>
+    void enqueueWrite(const OclRuntime& rt, const std::vector<T, Allocator>& data) {
+        enqueueWrite(rt, data.data(), data.size());
+    }
 
     // Enqueues the copy back of elements [offset, offset + n) without waiting: `data` is valid
     // once the queue is finished.

@@ -14,6 +14,9 @@
 
 namespace btocl {
 
+// Rows are all written after the array is sized (the host row setup, the joints' rows).
+using RowArray = std::vector<btoclRow, DefaultInitAllocator<btoclRow>>;
+
 struct StepProblem {
     // Per solver body. Index 0 is the fixed body that every static object maps to (as SI's).
     HostArray<btoclBody> bodies;  // HostArray: read in place by a device on the host's memory
@@ -39,7 +42,7 @@ struct StepProblem {
     // the rows set up on the host, in gather order from row hostRowBase() on: every row then, or
     // the joint rows alone when the device sets the contact rows up.
     bool rowsOnDevice = true;
-    std::vector<btoclRow> rows;
+    RowArray rows;
     int hostRowBase() const { return rowsOnDevice ? rowStart(BTOCL_ROWS_JOINT) : 0; }
 
     // After the solve: applied impulses of every row (gather order), and the two friction
