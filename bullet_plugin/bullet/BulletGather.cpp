@@ -256,7 +256,7 @@ void StepGatherer::packManifold(size_t m) {
     btPersistentManifold* manifold = m_manifolds[m];
     checkManifold(*manifold, m_info, slot.anisotropic);  // before any of its points is packed
     StepProblem& p = m_problem;
-    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    const int frictionRows = p.frictionRowsPerPoint();
     const int idA = slot.bodyA, idB = slot.bodyB;
     btoclConstraint c{};
     c.bodyA = idA;
@@ -264,7 +264,7 @@ void StepGatherer::packManifold(size_t m) {
     c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
     c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
     c.firstRow[BTOCL_ROWS_NORMAL] = slot.firstPoint;
-    c.firstRow[BTOCL_ROWS_FRICTION] = p.firstFrictionRowOf(slot.firstPoint, frictionRows);
+    c.firstRow[BTOCL_ROWS_FRICTION] = p.firstFrictionRowOf(slot.firstPoint);
     c.firstRow[BTOCL_ROWS_ROLLING] = p.rowStart(BTOCL_ROWS_ROLLING) + slot.firstRolling;
     c.numRows[BTOCL_ROWS_NORMAL] = slot.numPoints;
     c.numRows[BTOCL_ROWS_FRICTION] = slot.numPoints * frictionRows;
@@ -294,7 +294,7 @@ void StepGatherer::packManifold(size_t m) {
         pt.bodyA = idA;
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
-        pt.firstFrictionRow = p.firstFrictionRowOf(point, frictionRows);
+        pt.firstFrictionRow = p.firstFrictionRowOf(point);
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
         p.points[size_t(point)] = pt;
         m_bullet.manifoldPoints[size_t(point)] = &cp;
@@ -337,7 +337,7 @@ void StepGatherer::packManifolds() {
     if (named)  // the slots that named a body can tell now
         parallelFor(numManifolds, [&](size_t m) { m_slots[m].solved = canMove(m_slots[m]); });
 
-    const int frictionRows = (m_info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+    const int frictionRows = p.frictionRowsPerPoint();
     int numPoints = 0, numRolling = 0, numConstraints = 0;
     m_bullet.mayHaveAnisotropic = false;
     for (ManifoldSlot& slot : m_slots) {

@@ -28,7 +28,7 @@ btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direct
 
 void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) {
     const btoclSetupParams& prm = p.setupParams;
-    const bool two = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const bool two = p.frictionRowsPerPoint() == 2;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
     // The joints' rows, where the gather has set them up already (then `rows` holds them alone):
     // they move up behind the contact rows, in the same array, unless the rows go `into` a host

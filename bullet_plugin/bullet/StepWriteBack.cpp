@@ -14,18 +14,17 @@ namespace {
 // One walk over the manifold points (scattered in memory, so a few are fetched ahead).
 void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
-    const bool two = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const bool two = p.frictionRowsPerPoint() == 2;
     // As SI: plane-space directions with two directions and no velocity dependence are kept.
     const bool keepDirections = two && (info.m_solverMode & SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION);
     const size_t n = p.points.size();
     // A point's friction rows are found by their index (StepProblem::firstFrictionRowOf), not read
     // from the point's record (a cache line a point, for 4 bytes).
-    const int frictionRows = two ? 2 : 1;
     parallelFor(n, [&](size_t i) {
         if (i + 8 < n) prefetchBytes(bullet.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
         btManifoldPoint* pt = bullet.manifoldPoints[i];
         if (impulses) {
-            const size_t f = size_t(p.firstFrictionRowOf(int(i), frictionRows));
+            const size_t f = size_t(p.firstFrictionRowOf(int(i)));
             pt->m_appliedImpulse = p.appliedImpulses[i];
             pt->m_appliedImpulseLateral1 = p.appliedImpulses[f];
             if (two) pt->m_appliedImpulseLateral2 = p.appliedImpulses[f + 1];

@@ -66,13 +66,13 @@ struct StepProblem {
     int numRows() const { return regions.start[BTOCL_NUM_ROW_KINDS]; }
     int numContactPoints() const { return numRowsOf(BTOCL_ROWS_NORMAL); }  // normal row i is point i
     int numJointRows() const { return numRowsOf(BTOCL_ROWS_JOINT); }
-    // A contact point's first friction row: each point's one or two friction rows (frictionRows),
-    // in point order, as the gather lays them out.
-    int firstFrictionRowOf(int point, int frictionRows) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRows; }
     // Each point's friction rows: two with SOLVER_USE_2_FRICTION_DIRECTIONS, else one.
     int frictionRowsPerPoint() const {
         return (setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
     }
+    // A contact point's first friction row: each point's friction rows in point order, as the
+    // gather lays them out.
+    int firstFrictionRowOf(int point) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRowsPerPoint(); }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
     int maxIterations(int numIterations) const { return std::max(numIterations, jointIterations); }
 };
