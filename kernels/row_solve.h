@@ -176,7 +176,7 @@ BTOCL_INLINE float btoclSolveRowImpulse(BTOCL_GLOBAL const btoclSolveRow* row, B
     const btoclFloat4 n = btoclXyz(row->normal);
     const btoclFloat4 v = (n * A->linear - n * B->linear) +
                           (row->relpos1CrossNormal * A->angular + row->relpos2CrossNormal * B->angular);
-    float deltaImpulse = start - (v.x + v.y + v.z) * jacDiagABInv;
+    float deltaImpulse = start - btoclSum3(v) * jacDiagABInv;
     const float sum = applied + deltaImpulse;
     float newApplied = sum;
     if (sum < lower) {

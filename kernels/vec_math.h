@@ -29,7 +29,24 @@ inline btoclFloat4 operator-(btoclFloat4 a, btoclFloat4 b) { return btoclOf(btoc
 inline btoclFloat4 operator-(btoclFloat4 a) { return btoclOf(-btoclVec(a)); }
 inline btoclFloat4 operator*(btoclFloat4 a, btoclFloat4 b) { return btoclOf(btoclVec(a) * btoclVec(b)); }
 inline btoclFloat4 operator*(btoclFloat4 a, float s) { return btoclOf(btoclVec(a) * s); }
+// x + y + z with y and z moved down by shuffles: the lanes stay in registers (GCC took x through
+// the stack to add it, a store and a reload in the solve's chain of rows).
+inline float btoclSum3(btoclFloat4 a) {
+    typedef int btoclIndex4 __attribute__((vector_size(16)));
+    const btoclVector4 v = btoclVec(a);
+    const btoclVector4 y = __builtin_shuffle(v, btoclIndex4{1, 1, 1, 1});
+    const btoclVector4 z = __builtin_shuffle(v, btoclIndex4{2, 2, 2, 2});
+    return ((v + y) + z)[0];
+}
+// The vector part, w cleared by a mask (GCC built it lane by lane from three loads).
+inline btoclFloat4 btoclXyz(btoclFloat4 a) {
+    typedef int btoclIndex4 __attribute__((vector_size(16)));
+    const btoclIndex4 bits = (btoclIndex4)btoclVec(a) & btoclIndex4{-1, -1, -1, 0};
+    return btoclOf((btoclVector4)bits);
+}
 #else
+inline float btoclSum3(btoclFloat4 a) { return a.x + a.y + a.z; }
+inline btoclFloat4 btoclXyz(btoclFloat4 v) { return {v.x, v.y, v.z, 0.0f}; }
 inline btoclFloat4 operator+(btoclFloat4 a, btoclFloat4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
 inline btoclFloat4 operator-(btoclFloat4 a, btoclFloat4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
 inline btoclFloat4 operator-(btoclFloat4 a) { return {-a.x, -a.y, -a.z, -a.w}; }
@@ -41,9 +58,12 @@ inline btoclFloat4& operator+=(btoclFloat4& a, btoclFloat4 b) { return a = a + b
 inline btoclFloat4& operator*=(btoclFloat4& a, float s) { return a = a * s; }
 #endif
 
-BTOCL_INLINE btoclFloat4 btoclZero4(void) { return BTOCL_FLOAT4(0.0f, 0.0f, 0.0f, 0.0f); }
+#ifdef __OPENCL_VERSION__
+BTOCL_INLINE float btoclSum3(btoclFloat4 a) { return a.x + a.y + a.z; }
 // The vector part, w cleared.
 BTOCL_INLINE btoclFloat4 btoclXyz(btoclFloat4 v) { return BTOCL_FLOAT4(v.x, v.y, v.z, 0.0f); }
+#endif
+BTOCL_INLINE btoclFloat4 btoclZero4(void) { return BTOCL_FLOAT4(0.0f, 0.0f, 0.0f, 0.0f); }
 // v's vector part with w set to a payload.
 BTOCL_INLINE btoclFloat4 btoclWithW(btoclFloat4 v, float w) { return BTOCL_FLOAT4(v.x, v.y, v.z, w); }
 BTOCL_INLINE float btoclDot3(btoclFloat4 a, btoclFloat4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
