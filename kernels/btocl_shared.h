@@ -4,8 +4,9 @@
 #ifndef BTOCL_SHARED_H
 #define BTOCL_SHARED_H
 
-// Functions of the headers that both compile (split_grid.h, row_setup.h, ...).
-#ifdef __OPENCL_VERSION__
+// Functions of the headers that both compile (split_grid.h, row_setup.h, ...), inlined on the
+// host too: GCC's own choice left a friction row's setup a call, its records passed in memory.
+#if defined(__OPENCL_VERSION__) || defined(__GNUC__)
 #define BTOCL_INLINE static inline __attribute__((always_inline))
 #else
 #define BTOCL_INLINE static inline
