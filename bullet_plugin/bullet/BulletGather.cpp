@@ -205,13 +205,10 @@ void StepGatherer::addJointRows() {
         m_bullet.manifoldOfConstraint.push_back(nullptr);
     }
     // Where no contact row is set up on the host yet, the rows move (a copy of them was a large
-    // part of a joint-heavy step's gather), unless there are contact rows and p.rows has room for
-    // the step's every row from the steps before: then they are copied there, and a host row
-    // setup after them fits the contact rows in without a new array (each a fresh allocation to
-    // fault in).
+    // part of a joint-heavy step's gather): a host step sets its contact rows up into its solve,
+    // not into p.rows (StepPipeline::solveOnHost).
     RowArray& rows = m_bullet.joints.rows;
-    const size_t contactRows = size_t(p.rowStart(BTOCL_ROWS_JOINT));
-    if (p.rows.empty() && (contactRows == 0 || p.rows.capacity() < contactRows + rows.size()))
+    if (p.rows.empty())
         p.rows.swap(rows);
     else
         p.rows.insert(p.rows.end(), rows.begin(), rows.end());
