@@ -16,6 +16,9 @@ endif()
 
 function(btocl_target_defaults target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-ignored-attributes)
+  # No fused multiply-adds whatever -march a build adds: the host's row math keeps the bits that a
+  # CPU device's kernels compute (kernels/btocl_shared.h, BTOCL_NO_CONTRACTION).
+  target_compile_options(${target} PRIVATE -ffp-contract=off)
   # Boost.Compute: stay within OpenCL 1.2, as the kernels do.
   target_compile_definitions(${target} PRIVATE BOOST_COMPUTE_MAX_CL_VERSION=102)
   if(BTOCL_SANITIZE)

@@ -203,7 +203,7 @@ const cl::Program& OclRuntime::stepProgram() const {
     if (!m_stepProgram())
         m_stepProgram = buildProgramFiles({"primitives.cl", "split.cl", "arrange.cl", "setup.cl", "solve.cl"},
                                           std::string("-cl-fp32-correctly-rounded-divide-sqrt") +
-                                              (m_isCpu ? " -DBTOCL_CPU_PREFETCH" : "") +
+                                              (m_isCpu ? " -DBTOCL_CPU_PREFETCH -DBTOCL_NO_CONTRACTION" : "") +
                                               (m_stepLanes > 1 ? " -DBTOCL_LANES=" + std::to_string(m_stepLanes) : ""));
     return m_stepProgram;
 }
