@@ -174,6 +174,33 @@ TEST_CASE("results handed back in place equal results copied back", "[solve]") {
     CHECK(moved);
 }
 
+TEST_CASE("a step set up and solved on a CPU device gives the host's bits", "[solve][setup]") {
+    // The rows set up by the setup kernel from the points rather than on the host, then solved:
+    // with no fused multiply-add on either side, the same bits as the host's setup and solve.
+    if (!deviceGivesHostBits()) return;
+    World w(SolverKind::Reference);
+    groundAndPile(w, 64);
+    btContactSolverInfo info = w.stepInfo();
+    const bool two = GENERATE(false, true);
+    CAPTURE(two);
+    if (two) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    for (int i = 0; i < 30; ++i) w.step();
+    StepProblem host = gatherProblem(w, info, RowSetup::Host);
+    StepProblem dev = gatherProblem(w, info, RowSetup::Device);
+    REQUIRE(host.numContactPoints() > 100);
+    REQUIRE(dev.rowsOnDevice);
+    const SolveSettings settings = solveSettingsOf(info, true, 5);
+    const StepMode launch = GENERATE(StepMode::PerSet, StepMode::WholeStep, StepMode::Claimed);
+    CAPTURE(int(launch));
+    if (launch == StepMode::Claimed && !claimedRunsHere()) return;
+    solveOnHost(host, buildSerialLayout(int(host.constraints.size())), settings);
+    solveOnDevice(dev, buildSerialLayout(int(dev.constraints.size())), settings, nullptr, launch);
+    CHECK(worstSolveGap(host, dev) == 0.0f);
+    REQUIRE(host.lateralDirs.size() == dev.lateralDirs.size());
+    CHECK(std::memcmp(host.lateralDirs.data(), dev.lateralDirs.data(), host.lateralDirs.size() * sizeof(btoclFloat4)) ==
+          0);
+}
+
 TEST_CASE("a residual threshold stops the device iterations where the host reference stops", "[solve]") {
     World w(SolverKind::Reference);
     groundAndPile(w, 64);
