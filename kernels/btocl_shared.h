@@ -4,13 +4,14 @@
 #ifndef BTOCL_SHARED_H
 #define BTOCL_SHARED_H
 
-// Functions of the headers that both compile (split_grid.h, row_setup.h, ...), inlined on the
-// host too: GCC's own choice left a friction row's setup a call, its records passed in memory.
 // On a CPU device the host asks for BTOCL_NO_CONTRACTION: no multiply-add fused, as the host's
-// build fuses none, so that the device's solve gives the serial host reference's bits.
+// build fuses none, so that the device's setup and solve give the serial host reference's bits.
 #if defined(__OPENCL_VERSION__) && defined(BTOCL_NO_CONTRACTION)
 #pragma OPENCL FP_CONTRACT OFF
 #endif
+
+// Functions of the headers that both compile (split_grid.h, row_setup.h, ...), inlined on the
+// host too: GCC's own choice left a friction row's setup a call, its records passed in memory.
 #if defined(__OPENCL_VERSION__) || defined(__GNUC__)
 #define BTOCL_INLINE static inline __attribute__((always_inline))
 #else
