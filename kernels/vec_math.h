@@ -22,6 +22,7 @@
 // operation in each lane as the scalar form, so the same bits, in a quarter of the instructions
 // (the compiler leaves the scalar form scalar).
 typedef float btoclVector4 __attribute__((vector_size(16)));
+typedef int btoclIndex4 __attribute__((vector_size(16)));  // lane indices and masks
 inline btoclVector4 btoclVec(btoclFloat4 a) { return btoclVector4{a.x, a.y, a.z, a.w}; }
 inline btoclFloat4 btoclOf(btoclVector4 v) { return {v[0], v[1], v[2], v[3]}; }
 inline btoclFloat4 operator+(btoclFloat4 a, btoclFloat4 b) { return btoclOf(btoclVec(a) + btoclVec(b)); }
@@ -32,7 +33,6 @@ inline btoclFloat4 operator*(btoclFloat4 a, float s) { return btoclOf(btoclVec(a
 // x + y + z with y and z moved down by shuffles: the lanes stay in registers (GCC took x through
 // the stack to add it, a store and a reload in the solve's chain of rows).
 inline float btoclSum3(btoclFloat4 a) {
-    typedef int btoclIndex4 __attribute__((vector_size(16)));
     const btoclVector4 v = btoclVec(a);
     const btoclVector4 y = __builtin_shuffle(v, btoclIndex4{1, 1, 1, 1});
     const btoclVector4 z = __builtin_shuffle(v, btoclIndex4{2, 2, 2, 2});
@@ -40,13 +40,10 @@ inline float btoclSum3(btoclFloat4 a) {
 }
 // The vector part, w cleared by a mask (GCC built it lane by lane from three loads).
 inline btoclFloat4 btoclXyz(btoclFloat4 a) {
-    typedef int btoclIndex4 __attribute__((vector_size(16)));
     const btoclIndex4 bits = (btoclIndex4)btoclVec(a) & btoclIndex4{-1, -1, -1, 0};
     return btoclOf((btoclVector4)bits);
 }
 #else
-inline float btoclSum3(btoclFloat4 a) { return a.x + a.y + a.z; }
-inline btoclFloat4 btoclXyz(btoclFloat4 v) { return {v.x, v.y, v.z, 0.0f}; }
 inline btoclFloat4 operator+(btoclFloat4 a, btoclFloat4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
 inline btoclFloat4 operator-(btoclFloat4 a, btoclFloat4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
 inline btoclFloat4 operator-(btoclFloat4 a) { return {-a.x, -a.y, -a.z, -a.w}; }
@@ -58,7 +55,7 @@ inline btoclFloat4& operator+=(btoclFloat4& a, btoclFloat4 b) { return a = a + b
 inline btoclFloat4& operator*=(btoclFloat4& a, float s) { return a = a * s; }
 #endif
 
-#ifdef __OPENCL_VERSION__
+#if defined(__OPENCL_VERSION__) || !defined(__GNUC__)
 BTOCL_INLINE float btoclSum3(btoclFloat4 a) { return a.x + a.y + a.z; }
 // The vector part, w cleared.
 BTOCL_INLINE btoclFloat4 btoclXyz(btoclFloat4 v) { return BTOCL_FLOAT4(v.x, v.y, v.z, 0.0f); }

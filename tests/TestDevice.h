@@ -20,12 +20,14 @@ inline bool testsRunWide() {
 inline DevicePrimitives::Backend testBackend() {
     return testsRunWide() ? DevicePrimitives::Backend::BoostCompute : DevicePrimitives::Backend::Chunked;
 }
+// Whether the tests' device (the default one) is a CPU device.
+inline bool testDeviceIsCpu() {
+    static const bool cpu = OclRuntime("").isCpu();
+    return cpu;
+}
 // The claimed launch is planned on a CPU device only (its work-groups read each other's writes
 // through coherent caches: StepPolicy.h); elsewhere the tests skip it as the solver does.
-inline bool claimedRunsHere() {
-    static const bool cpu = OclRuntime("").isCpu();
-    return !testsRunWide() && cpu;
-}
+inline bool claimedRunsHere() { return !testsRunWide() && testDeviceIsCpu(); }
 inline GroupLanes testLanes() { return testsRunWide() ? GroupLanes::wide(64) : GroupLanes::serial(); }
 
 // A plan of the given mode on the path under test, with the step's passes (the claimed and host

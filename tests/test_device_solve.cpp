@@ -49,10 +49,7 @@ float worstSolveGap(const StepProblem& a, const StepProblem& b) {
 }
 
 // Whether the device computes the host's bits: a CPU device's kernels fuse no multiply-add.
-bool deviceGivesHostBits() {
-    static const bool cpu = OclRuntime("").isCpu();
-    return cpu;
-}
+bool deviceGivesHostBits() { return testDeviceIsCpu(); }
 
 // A device solve against the host reference's: the same bits where the device computes them
 // (deviceGivesHostBits), else within the last bits of fused multiply-adds.
@@ -262,7 +259,6 @@ TEST_CASE("device solve on the split's own layout matches the host reference wal
     if (launch == StepMode::Claimed && !claimedRunsHere()) return;
     solveOnHost(host, layout, settings);
     solveOnDevice(dev, layout, settings, nullptr, launch);
-    // As above: fused multiply-adds change the last bits of each row update.
     checkSolveGap(host, dev);  // as above
 }
 
