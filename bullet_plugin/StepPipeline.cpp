@@ -59,13 +59,14 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
                        btOpenCLSolverStats& s) {
     const auto t0 = std::chrono::steady_clock::now();
     const SolveSettings settings = solveSettingsOf(info, m_config.rotatePoints, m_orderSeed++);
-    const StepPlan step = planStep(m_plan, p, settings);
+    const StepPlan step = planStep(m_plan, p, settings, &m_splitTimes);
     if (!step.oneGroup()) addSplitGeometry(p, bullet);
     if (step.onHost())
         solveOnHost(p, bullet, step, settings, s);
     else
         solveOnDevice(p, step, settings, s);
     s.msDevice = msSince(t0);
+    if (step.timed()) m_splitTimes.record(step.onHost(), s.msDevice, p.numRows());
 
     const auto t1 = std::chrono::steady_clock::now();
     writeBackStep(p, bullet, info);
@@ -78,22 +79,41 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
 }
 
 // Every row set up on the calling thread (the contact rows from the points, as the setup kernel
-// does), then the passes in gather order: no device command at all.
+// does), then the passes in gather order, or in the order of the split made here: no device
+// command at all.
 void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step,
                                const SolveSettings& settings, btOpenCLSolverStats& s) {
+    const BatchLayout* layout = nullptr;
+    if (step.mode() == StepMode::HostSplit) {
+        const auto t0 = std::chrono::steady_clock::now();
+        splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
+                      m_hostSplit);
+        s.msSplit = msSince(t0);
+        layout = &m_hostSplit;
+        if (m_config.validate) {
+            const std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
+            if (!failure.empty()) {
+                s.validationFailures += 1;
+                s.lastValidationMessage = failure;
+            }
+        }
+    }
     const auto t0 = std::chrono::steady_clock::now();
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
     if (setHere) setupRowsOnHost(p, bullet, &m_hostSolve);
     s.msSetup = msSince(t0);
     const auto t1 = std::chrono::steady_clock::now();
-    s.numIterationsRun = setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings)
-                                 : m_hostSolve.solve(p, step.passes(), settings);
+    s.numIterationsRun = setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
+                                 : m_hostSolve.solve(p, step.passes(), settings, layout);
     s.msSolve = msSince(t1);
     s.solvedOnHost = true;
-    s.numGroups = p.constraints.empty() ? 0 : 1;
-    s.numBatchesMax = s.numGroups;
-    s.numBatchesMean = s.numGroups;
+    s.solvedOnHostSplit = layout != nullptr;
+    s.numCellGroups = layout ? layout->setGroupStart[BTOCL_NUM_SETS] : 0;
+    s.numGroups = layout ? layout->setGroupStart[BTOCL_NUM_SETS + 1] : p.constraints.empty() ? 0 : 1;
+    s.numOverflowConstraints = layout ? layout->numOverflowConstraints : 0;
+    s.numBatchesMax = s.numGroups > 0 ? 1 : 0;  // one run a group, as the claimed launch walks it
+    s.numBatchesMean = s.numBatchesMax;
 }
 
 void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings,

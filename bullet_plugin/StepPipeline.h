@@ -1,7 +1,8 @@
 // A gathered step through every stage after the gather, written once, in order:
-//   plan       how the step runs (planStep: on the host, or on the device whole or split, and
-//              its passes); a step on the host sets its rows up and runs its passes on the
-//              calling thread (HostRowSetup.h, HostSolve.h), then goes to the write-back
+//   plan       how the step runs (planStep: on the host, whole or split there, or on the device
+//              whole or split, and its passes); a step on the host sets its rows up and runs its
+//              passes on the calling thread (HostRowSetup.h, HostSolve.h), then goes to the
+//              write-back
 //   fit        every buffer checked against the device's limits, before anything is enqueued
 //   upload     bodies, constraints, contact points and host rows to the device
 //   layout     the global split and the local batches (DeviceLayout), or one group
@@ -84,6 +85,7 @@ private:
     HostArrangement m_hostArrangement;  // and its arrangement, likewise
     LaneLayout m_laneLayout;            // or its lane layout, likewise
     HostSolve m_hostSolve;
+    SplitStepTimes m_splitTimes;  // where split steps ran faster of late (SplitStepsOnHost::Timed)
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset
 };

@@ -3,6 +3,7 @@
 #include "LaneLayout.h"
 #include "row_solve.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -52,6 +53,14 @@ long long resolveHostStepMaxRows(int asked, const OclRuntime& runtime) {
                                       "'; it takes auto, never or always");
     }
     return runtime.isCpu() ? kHostStepMaxRowsCpu : kHostStepMaxRowsGpu;
+}
+
+// Timed where the device's claimed launch and the host give the same bits (a CPU device, whose
+// program contracts no multiply-add: docs/architecture.md) and host steps are not switched off.
+SplitStepsOnHost resolveSplitStepsOnHost(int asked, long long hostStepMaxRows, bool claimedLaunch, const OclRuntime& runtime) {
+    if (asked == 0 || !claimedLaunch) return SplitStepsOnHost::Never;
+    if (asked == 1) return SplitStepsOnHost::Always;
+    return runtime.isCpu() && hostStepMaxRows >= 0 ? SplitStepsOnHost::Timed : SplitStepsOnHost::Never;
 }
 
 btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& runtime) {
@@ -118,10 +127,50 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
     const int simdLanes = resolveSimdLanes(config.simdLanes, runtime);  // checked on every path
     plan.simdLanes = !plan.wide() && plan.claimedLaunch ? simdLanes : 1;
+    plan.splitStepsOnHost =
+        resolveSplitStepsOnHost(config.splitStepsOnHost, plan.hostStepMaxRows, plan.claimedLaunch && !plan.wide(), runtime);
     return plan;
 }
 
-StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings) {
+bool SplitStepTimes::nextOnHost() {
+    m_trying = false;
+    if (++m_sinceRetime >= kRetime) {  // the way not taken timed afresh: its old times may be stale
+        m_ways[!m_host].count = 0;
+        m_sinceRetime = 0;
+    }
+    // Each way timed a few steps first, by turns.
+    if (std::min(m_ways[0].count, m_ways[1].count) < kFirstSteps) return m_ways[1].count < m_ways[0].count;
+    m_trying = ++m_sinceTry >= m_tryEvery;
+    return m_trying != m_host;
+}
+
+double SplitStepTimes::Way::mean() const {
+    const int n = std::min(count, kWindow);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) sum += msPerRow[i];
+    return n > 0 ? sum / n : 0;
+}
+
+void SplitStepTimes::record(bool onHost, double ms, int rows) {
+    Way& way = m_ways[onHost];
+    if (way.steps++ == 0) return;  // a way's first step sets its arrays up: not its pace
+    way.add(ms / std::max(1, rows));
+    const Way& other = m_ways[!onHost];
+    if (std::min(way.count, other.count) < kFirstSteps) return;
+    const bool host = way.mean() < other.mean() ? onHost : !onHost;
+    if (m_trying) {  // the way not taken, tried: tried less often while it loses
+        m_sinceTry = 0;
+        m_tryEvery = host == m_host ? std::min(2 * m_tryEvery, kLastTry) : kFirstTry;
+    } else if (host != m_host) {
+        m_sinceTry = 0;
+        m_tryEvery = kFirstTry;
+    }
+    m_host = host;
+    m_trying = false;
+}
+
+StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings,
+                  SplitStepTimes* times) {
     const btoclPassSchedule passes = passScheduleOf(settings, p);
     if (p.numRows() <= solver.hostStepMaxRows) return StepPlan::onHost(passes);
     const bool whole = solver.wholeStepMaxRows >= 0 ? p.numRows() <= solver.wholeStepMaxRows
@@ -133,11 +182,18 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
     // the wide path, and the serial path on a GPU, launch once per set and pass.
     if (solver.wide() || !solver.claimedLaunch) return StepPlan::perSet(solver.lanes, passes);
     if (solver.simdLanes > 1 && stepFitsLanes(p, settings, passes)) return StepPlan::claimedInLanes(passes, solver.simdLanes);
-    return StepPlan::claimed(passes);
+    const StepPlan claimed = StepPlan::claimed(passes);
+    // The host walks the host's split alone (the device's, past hostSplitMaxConstraints, is
+    // another layout).
+    if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, claimed)) return claimed;
+    if (solver.splitStepsOnHost == SplitStepsOnHost::Always) return StepPlan::onHostSplit(passes);
+    if (!times) return claimed;
+    return (times->nextOnHost() ? StepPlan::onHostSplit(passes) : claimed).asTimed();
 }
 
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {
-    if (step.inLanes()) return true;  // the lane layout is the host's, from the host's split
+    // The lane layout is the host's, from the host's split; a split step on the host splits there.
+    if (step.inLanes() || step.mode() == StepMode::HostSplit) return true;
     return !step.oneGroup() && !step.onHost() && !step.localBatches() &&
            p.constraints.size() <= solver.hostSplitMaxConstraints;
 }

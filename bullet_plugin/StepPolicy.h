@@ -9,6 +9,9 @@
 
 namespace btocl {
 
+// Where a split step that a claimed launch would solve runs (btOpenCLSolverConfig::splitStepsOnHost).
+enum class SplitStepsOnHost { Never, Timed, Always };
+
 // What a solver fixes when it is made.
 struct SolverPlan {
     btOpenCLSolvePath path = btOpenCLSolvePath::Serial;  // never Auto
@@ -27,6 +30,9 @@ struct SolverPlan {
     // Split steps' groups solved this many at a time in the vector unit's lanes where the step's
     // rows allow (LaneLayout.h); 1: one group a work-item.
     int simdLanes = 1;
+    // Such a claimed step solved on the calling thread instead (StepPlan::onHostSplit), to the
+    // same bits on a CPU device: never, always, or as the recent steps' times say.
+    SplitStepsOnHost splitStepsOnHost = SplitStepsOnHost::Never;
     bool wide() const { return path == btOpenCLSolvePath::Wide; }
 };
 
@@ -35,10 +41,43 @@ struct SolverPlan {
 // BT_OPENCL_SOLVE_PATH or BT_OPENCL_HOST_STEPS.
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime);
 
+// Where a split step runs that either a claimed launch or the calling thread may solve, to the
+// same bits (SplitStepsOnHost::Timed): where the recent steps ran faster, by the mean time a row
+// of the last kWindow steps each way ran. The mean counts the worst steps: another process busy
+// on a core stalls a device step until the core's worker runs again, but not the calling thread,
+// which the OS moves (docs/performance.md, "Split steps on the host"). Each way is timed first
+// for kFirstSteps steps by turns (a way's first step, which sizes its arrays, not counted); the
+// way not taken is then tried every kFirstTry steps, less often while it loses (up to kLastTry),
+// and timed afresh every kRetime steps, so that the choice follows a load that comes and goes.
+// No result depends on it: both ways give the same bits (tests/test_host_step.cpp).
+class SplitStepTimes {
+public:
+    static constexpr int kWindow = 16, kFirstSteps = 3, kFirstTry = 32, kLastTry = 256, kRetime = 512;
+
+    // Where the next such step runs: the faster way so far, or the other on its turn to be tried.
+    bool nextOnHost();
+    // The time of the step that nextOnHost placed, over its rows.
+    void record(bool onHost, double ms, int rows);
+
+private:
+    struct Way {
+        double msPerRow[kWindow] = {};
+        int steps = 0;  // steps run this way
+        int count = 0;  // times kept: since the way was last timed afresh, its first step not counted
+        void add(double value) { msPerRow[count++ % kWindow] = value; }
+        double mean() const;
+    };
+    Way m_ways[2];  // [0] device, [1] host
+    bool m_host = false, m_trying = false;
+    int m_sinceTry = 0, m_tryEvery = kFirstTry, m_sinceRetime = 0;
+};
+
 // How this step runs: on the host where a device launch would cost more than the step's work;
 // whole in one launch where the split would cost more than it saves; else split and launched as
-// the path does. And its passes.
-StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings);
+// the path does, or split on the host and solved there (solver.splitStepsOnHost; with `times`
+// where Timed). And its passes.
+StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSettings& settings,
+                  SplitStepTimes* times = nullptr);
 
 // The lanes a solver on `runtime` asks for (config.simdLanes, or BT_OPENCL_SIMD_LANES): 1 on a
 // device that is not a CPU, and where neither asks. Throws btOpenCLSolverError for a width other

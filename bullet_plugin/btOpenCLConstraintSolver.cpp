@@ -29,6 +29,9 @@ const btOpenCLSolverConfig& checked(const btOpenCLSolverConfig& c) {
     if (c.hostStepMaxRows < -1)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: hostStepMaxRows must be -1 (automatic), 0 (never) or a "
                                   "row count, not " + std::to_string(c.hostStepMaxRows));
+    if (c.splitStepsOnHost < -1 || c.splitStepsOnHost > 1)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: splitStepsOnHost must be -1 (automatic), 0 (never) or 1 "
+                                  "(always), not " + std::to_string(c.splitStepsOnHost));
     return c;
 }
 

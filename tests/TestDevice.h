@@ -37,6 +37,7 @@ inline StepPlan testPlan(StepMode mode, const btoclPassSchedule& passes) {
         case StepMode::WholeStep: return StepPlan::wholeStep(testLanes(), passes);
         case StepMode::PerSet: return StepPlan::perSet(testLanes(), passes);
         case StepMode::Claimed: return StepPlan::claimed(passes);
+        case StepMode::HostSplit: return StepPlan::onHostSplit(passes);
         case StepMode::Host: break;
     }
     return StepPlan::onHost(passes);

@@ -1,11 +1,14 @@
 // Steps solved on the calling thread (hostStepMaxRows, StepMode::Host): chosen by size, forced
 // either way by the config or BT_OPENCL_HOST_STEPS, said in the stats, touching no OpenCL call,
 // deterministic, and the same physics as the device's whole step, which walks the constraints in
-// the same order with the same row code.
+// the same order with the same row code. Split steps solved there (splitStepsOnHost,
+// StepMode::HostSplit): the claimed launch's bits, however the timed choice falls.
 #include "FaultInjection.h"
 #include "JointScenes.h"
 #include "Scenes.h"
 #include "ScopedEnv.h"
+#include "StepPolicy.h"
+#include "TestDevice.h"
 #include "btOpenCLConstraintSolver.h"
 
 #include <catch2/catch.hpp>
@@ -149,4 +152,172 @@ TEST_CASE("hostStepMaxRows and BT_OPENCL_HOST_STEPS choose where small steps are
     btOpenCLSolverConfig bad;
     bad.hostStepMaxRows = -2;
     CHECK_THROWS_WITH(btOpenCLConstraintSolver(bad), Catch::Contains("hostStepMaxRows"));
+}
+
+namespace {
+
+// Every step split (no whole step, no step under hostStepMaxRows but those of one row), solved
+// on the host split alike (1), in a claimed launch (0), or where the recent steps ran faster (-1).
+btOpenCLSolverConfig splitSteps(int onHost) {
+    btOpenCLSolverConfig c = validatingConfig();
+    c.hostStepMaxRows = 1;  // not 0: that would switch the timed choice off
+    c.wholeStepMaxRows = 0;
+    c.splitStepsOnHost = onHost;
+    return c;
+}
+
+// The options that change what a step's rows are or the order the passes walk them in.
+enum class Variant { Plain, Randomized, TwoFriction, SplitImpulse, Interleaved, Rolling, Residual, Count };
+
+void applyVariant(World& w, Variant v) {
+    btContactSolverInfo& info = w.info();
+    switch (v) {
+        case Variant::Randomized: info.m_solverMode |= SOLVER_RANDMIZE_ORDER; break;
+        case Variant::TwoFriction: info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS; break;
+        case Variant::SplitImpulse: info.m_splitImpulse = 1; break;
+        case Variant::Interleaved: info.m_solverMode |= SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS; break;
+        case Variant::Rolling:
+            for (btRigidBody* b : w.bodies()) b->setRollingFriction(0.05f);
+            break;
+        case Variant::Residual: info.m_leastSquaresResidualThreshold = 1e-4f; break;
+        default: break;
+    }
+}
+
+// Every body's transform and velocities, and every contact point's impulse, as bytes.
+std::vector<unsigned char> stateBytes(World& w) {
+    std::vector<unsigned char> out;
+    auto put = [&](const void* p, size_t n) {
+        const auto* c = static_cast<const unsigned char*>(p);
+        out.insert(out.end(), c, c + n);
+    };
+    for (const btRigidBody* b : w.bodies()) {
+        put(&b->getWorldTransform(), sizeof(btTransform));
+        put(&b->getLinearVelocity(), sizeof(btVector3));
+        put(&b->getAngularVelocity(), sizeof(btVector3));
+    }
+    btDispatcher* d = &w.dispatcher();
+    for (int i = 0; i < d->getNumManifolds(); ++i) {
+        const btPersistentManifold* m = d->getManifoldByIndexInternal(i);
+        for (int k = 0; k < m->getNumContacts(); ++k) put(&m->getContactPoint(k).m_appliedImpulse, sizeof(btScalar));
+    }
+    return out;
+}
+
+struct SplitRun {
+    std::vector<unsigned char> state;
+    int stepsOnHost = 0, stepsOnDevice = 0, validationFailures = 0;
+};
+
+SplitRun runSplit(int onHost, Variant v, int steps) {
+    World w(SolverKind::OpenCL, splitSteps(onHost));
+    pyramidAndChains(w);
+    applyVariant(w, v);
+    SplitRun run;
+    for (int s = 0; s < steps; ++s) {
+        w.step();
+        const btOpenCLSolverStats& stats = w.openCL()->getLastStats();
+        if (stats.numGroups > 1) (stats.solvedOnHostSplit ? run.stepsOnHost : run.stepsOnDevice) += 1;
+        run.validationFailures += stats.validationFailures;
+    }
+    run.state = stateBytes(w);
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("a split step solved on the calling thread gives the claimed launch's bits", "[host][determinism]") {
+    // Both walk the same split (the host's) in the same order with the same row code, and a CPU
+    // device's program contracts no multiply-add: the same bits, step after step, whatever the
+    // options. Elsewhere (a GPU, the wide path) no split step is solved on the host.
+    const Variant v = Variant(GENERATE(range(0, int(Variant::Count))));
+    CAPTURE(int(v));
+    const SplitRun host = runSplit(1, v, 40), device = runSplit(0, v, 40);
+    CHECK(host.validationFailures == 0);
+    CHECK(device.validationFailures == 0);
+    CHECK(device.stepsOnHost == 0);
+    if (!btocl::test::claimedRunsHere()) {
+        CHECK(host.stepsOnHost == 0);
+        return;
+    }
+    CHECK(host.stepsOnDevice == 0);
+    REQUIRE(host.stepsOnHost == 40);
+    REQUIRE(host.state.size() == device.state.size());
+    CHECK(host.state == device.state);
+}
+
+TEST_CASE("split steps placed by their times take both ways and give the claimed launch's bits", "[host][determinism]") {
+    // The timed choice runs the first steps each way by turns, so both ways are taken in a run
+    // of any length; where later steps go depends on the machine, but no result does.
+    const SplitRun timed = runSplit(-1, Variant::Plain, 60), device = runSplit(0, Variant::Plain, 60);
+    CHECK(timed.validationFailures == 0);
+    if (!btocl::test::claimedRunsHere()) {
+        CHECK(timed.stepsOnHost == 0);
+        return;
+    }
+    CHECK(timed.stepsOnHost >= btocl::SplitStepTimes::kFirstSteps);
+    CHECK(timed.stepsOnDevice >= btocl::SplitStepTimes::kFirstSteps);
+    CHECK(timed.stepsOnHost + timed.stepsOnDevice == 60);
+    CHECK(timed.state == device.state);
+}
+
+TEST_CASE("splitStepsOnHost is checked, and off where host steps are off", "[host][api]") {
+    btOpenCLSolverConfig bad;
+    bad.splitStepsOnHost = 2;
+    CHECK_THROWS_WITH(btOpenCLConstraintSolver(bad), Catch::Contains("splitStepsOnHost"));
+    auto stepsOnHost = [](const btOpenCLSolverConfig& c) {
+        World w(SolverKind::OpenCL, c);
+        pyramidAndChains(w);
+        int n = 0;
+        for (int s = 0; s < 12; ++s) {
+            w.step();
+            n += w.openCL()->getLastStats().solvedOnHostSplit ? 1 : 0;
+        }
+        return n;
+    };
+    btOpenCLSolverConfig off = splitSteps(-1);
+    off.hostStepMaxRows = 0;
+    CHECK(stepsOnHost(off) == 0);
+    {
+        ScopedEnv env("BT_OPENCL_HOST_STEPS", "never");
+        btOpenCLSolverConfig automatic = splitSteps(-1);
+        automatic.hostStepMaxRows = -1;
+        CHECK(stepsOnHost(automatic) == 0);
+    }
+    if (btocl::test::claimedRunsHere()) CHECK(stepsOnHost(splitSteps(-1)) > 0);
+}
+
+TEST_CASE("the timed choice takes the faster way, tries the other, and follows a load", "[host][policy]") {
+    using btocl::SplitStepTimes;
+    SplitStepTimes times;
+    double deviceMs = 1.0;
+    const double hostMs = 1.5;
+    // Runs n steps (1,000 rows each), returns how many ran on the host.
+    auto run = [&](int n) {
+        int host = 0;
+        for (int i = 0; i < n; ++i) {
+            const bool onHost = times.nextOnHost();
+            host += onHost ? 1 : 0;
+            times.record(onHost, onHost ? hostMs : deviceMs, 1000);
+        }
+        return host;
+    };
+    // Timed by turns first: a first step and kFirstSteps timed ones each way.
+    const int firstSteps = 1 + SplitStepTimes::kFirstSteps;
+    CHECK(run(2 * firstSteps) == firstSteps);
+    // The device faster: the host tried now and then, less often while it loses.
+    const int tries = run(1000);
+    CHECK(tries > 0);
+    CHECK(tries <= 1000 / SplitStepTimes::kFirstTry);
+    // The device's steps stalled (another process on its cores): the host once the stalls have
+    // lifted the device's mean past the host's (here the second).
+    deviceMs = 6.0;
+    CHECK(run(3) >= 1);
+    const int underLoad = run(1000);
+    CHECK(underLoad > 1000 - 1000 / SplitStepTimes::kFirstTry);
+    // The load gone: back on the device once it is timed afresh (its tries alone would take a
+    // window's worth, thousands of steps, to wash the stalls out).
+    deviceMs = 1.0;
+    run(SplitStepTimes::kRetime + 2 * firstSteps);
+    CHECK(run(200) <= 200 / SplitStepTimes::kFirstTry + SplitStepTimes::kFirstSteps + 1);
 }

@@ -45,6 +45,14 @@ struct btOpenCLSolverConfig {
     // threshold measured for the device's type, docs/performance.md); 0: never; n > 0: steps of
     // at most n rows.
     int hostStepMaxRows = -1;
+    // On a CPU device, a split step that the device would solve in one claimed launch (the serial
+    // path) can be solved on the calling thread instead, split alike and in the same order, to
+    // the same bits. -1: the solver times both and runs each step where the recent ones ran
+    // faster, by a mean that counts the worst steps (another process busy on a core stalls the
+    // device's step, not the calling thread's: docs/performance.md, "Split steps on the host");
+    // never where host steps are off (hostStepMaxRows 0, BT_OPENCL_HOST_STEPS "never"). 0: never;
+    // 1: always.
+    int splitStepsOnHost = -1;
     // Each iteration starts the walk over a contact manifold's points at another point (the same
     // from run to run): resting stacks drift and jitter several times less than with Bullet's one
     // fixed order (docs/quality.md, "Resting stacks"). Off: every iteration walks the points in one fixed
@@ -112,6 +120,8 @@ struct btOpenCLSolverStats {
     // The step was solved on the calling thread (hostStepMaxRows): then msSetup and msSolve are
     // the host's times of its row setup and passes, and the other device phases are 0.
     bool solvedOnHost = false;
+    // Of those, a step split as the device would have it and solved in its order (splitStepsOnHost).
+    bool solvedOnHostSplit = false;
     int numGroups = 0;
     // A split step solved in lanes (simdLanes): its W, 0 otherwise; the share of its slots' lanes
     // that held a constraint, and of its row blocks' places that held a row.

@@ -18,6 +18,9 @@ enum class StepMode {
                 // claim each set's groups in turn (solve.cl: solveStepClaimed)
     Host,       // no device: rows set up and passes run on the calling thread, in gather order
                 // (HostSolve.h), for a step too small to repay a device launch
+    HostSplit,  // no device: the global split on the host, rows set up and passes run on the
+                // calling thread in the split's order, which is the claimed launch's, to its bits
+                // on a CPU device; where recent steps ran faster so (SplitStepTimes, StepPolicy.h)
 };
 
 // How a group's constraints meet the lanes, fixed for a solver by its path: the serial path walks
@@ -55,6 +58,10 @@ public:
     static StepPlan onHost(const btoclPassSchedule& passes) {
         return StepPlan(StepMode::Host, GroupLanes::serial(), passes);
     }
+    // The calling thread walks the host's split as a claimed launch would: the same results.
+    static StepPlan onHostSplit(const btoclPassSchedule& passes) {
+        return StepPlan(StepMode::HostSplit, GroupLanes::serial(), passes);
+    }
 
     StepMode mode() const { return m_mode; }
     int lanesPerGroup() const { return m_lanes.lanes; }
@@ -62,7 +69,7 @@ public:
     bool localBatches() const { return m_lanes.localBatches; }
     // Every constraint in one group (set 0), no global split.
     bool oneGroup() const { return m_mode == StepMode::WholeStep || m_mode == StepMode::Host; }
-    bool onHost() const { return m_mode == StepMode::Host; }
+    bool onHost() const { return m_mode == StepMode::Host || m_mode == StepMode::HostSplit; }
     // The iterations run in solveStepClaimed: the claimed mode, and a whole step of one lane, whose
     // one work-group walks the one group as solveWholeStep would (so the serial path, which has
     // one lane a group, compiles one solve kernel, not two).
@@ -75,6 +82,13 @@ public:
     // W > 1: the groups are solved W at a time in SIMD lanes (claimedInLanes); else 1.
     int simdLanes() const { return m_simdLanes; }
     bool inLanes() const { return m_simdLanes > 1; }
+    // Host or device taken by the recent steps' times (SplitStepTimes): this one's goes back to them.
+    bool timed() const { return m_timed; }
+    StepPlan asTimed() const {
+        StepPlan plan = *this;
+        plan.m_timed = true;
+        return plan;
+    }
 
 private:
     StepPlan(StepMode mode, GroupLanes lanes, const btoclPassSchedule& passes)
@@ -84,6 +98,7 @@ private:
     GroupLanes m_lanes;
     btoclPassSchedule m_passes;
     int m_simdLanes = 1;
+    bool m_timed = false;
 };
 
 // The step's passes (btocl_shared.h): the one place that decides them. Push iterations run only

@@ -54,6 +54,9 @@ void addBenchOptions(CLI::App& app, BenchOptions& o, std::string& solver) {
     app.add_option("--host-step-max-rows", o.hostStepMaxRows,
                    "our solver's hostStepMaxRows: steps of at most this many rows solved on the calling thread (-1: automatic, 0: never)")
         ->check(CLI::Range(-1, 2000000000));
+    app.add_option("--split-steps-on-host", o.splitStepsOnHost,
+                   "our solver's splitStepsOnHost: split steps solved on the calling thread (-1: where recent steps ran faster, 0: never, 1: always)")
+        ->check(CLI::Range(-1, 1));
     app.add_option("--solve-path", o.solvePath,
                    "our solver's path: auto (BT_OPENCL_SOLVE_PATH, else by device type), serial or wide")
         ->type_name("PATH")

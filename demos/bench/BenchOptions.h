@@ -17,6 +17,7 @@ struct BenchOptions {
     std::string order = "fixed";       // rotated: btOpenCLSolverConfig::rotatePoints; randomized: SOLVER_RANDMIZE_ORDER
     int wholeStepMaxRows = -1;         // btOpenCLSolverConfig::wholeStepMaxRows
     int hostStepMaxRows = -1;          // btOpenCLSolverConfig::hostStepMaxRows
+    int splitStepsOnHost = -1;         // btOpenCLSolverConfig::splitStepsOnHost
     bool withSiRandomized = false;     // a third world: Bullet's solver with SOLVER_RANDMIZE_ORDER
     bool standIn = false;        // put a second Bullet SI solver where ours goes (checks the harness)
     bool validate = false;       // btOpenCLSolverConfig::validate

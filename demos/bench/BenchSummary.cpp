@@ -81,6 +81,7 @@ Json sideJson(const SolverSide& side, const RunFacts& facts) {
         const btOpenCLSolverStats& st = side.lastStats;
         s["groups"] = st.numCellGroups;
         s["stepsOnHost"] = side.stepsOnHost;
+        s["stepsOnHostSplit"] = side.stepsOnHostSplit;
         s["stepsWholeOnDevice"] = side.stepsWhole;
         s["batchesMax"] = st.numBatchesMax;
         s["batchesMean"] = st.numBatchesMean;

@@ -85,6 +85,7 @@ void stepSolverSide(SolverSide& side, double dt) {
         side.lastJointRows = s.numJointRows;
         side.maxDeviceBytes = std::max(side.maxDeviceBytes, s.deviceBytes);
         side.stepsOnHost += s.solvedOnHost ? 1 : 0;
+        side.stepsOnHostSplit += s.solvedOnHostSplit ? 1 : 0;
         side.stepsWhole += s.solvedWholeStep ? 1 : 0;
         if (mostContactPoints) side.deviceBytesAtMostContactPoints = s.deviceBytes;
         if (s.validationFailures > 0 && side.validationFailures == 0)

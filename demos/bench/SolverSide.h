@@ -43,6 +43,7 @@ struct SolverSide {
     btOpenCLSolverStats lastStats;
     double maxDeviceBytes = 0;                   // ours: largest deviceBytes of any step
     int stepsOnHost = 0, stepsWhole = 0;          // ours: steps solved on the host, whole on the device
+    int stepsOnHostSplit = 0;                     // ours: of those on the host, split (splitStepsOnHost)
     double deviceBytesAtMostContactPoints = 0;   // ours: deviceBytes after the step with the most contact points
     int validationFailures = 0;         // over all steps (with --validate)
     std::string firstValidationFailure;

@@ -76,6 +76,7 @@ int run(const BenchOptions& options) {
     config.rotatePoints = options.order == "rotated";
     config.wholeStepMaxRows = options.wholeStepMaxRows;
     config.hostStepMaxRows = options.hostStepMaxRows;
+    config.splitStepsOnHost = options.splitStepsOnHost;
     std::unique_ptr<SolverSide> si, ours, siRandomized;
     if (options.runSi) si = makeSolverSide("si", SolverKind::BulletSI, *scene, facts.size, options.iterations, config);
     if (options.runOurs)
