@@ -23,20 +23,56 @@ float solvePassOf(const btoclSolveBuffers& b, int numConstraints, const BatchLay
     const int shuffled = btoclShuffledRows(PASS, flags), constraintsShuffled = btoclShuffledConstraints(PASS, flags);
     float maxResidual2 = 0;  // stays 0 where a pass pairs: it tracks no residual
     const bool pairs = pairsAllowed && btoclPassPairs(PASS, flags, iteration, numIterations);
+    const int* const order = layout ? layout->solveOrder.data() : nullptr;
+    auto at = [&](int i) { return b.constraints + (order ? order[i] : i); };
+    auto solveOne = [&](const btoclConstraint* c) {
+        btoclSolveConstraint(&b, c, PASS, flags, iteration, numIterations, 0u);
+    };
+    // Where the pass pairs: constraints [begin, end) of the solve order in order, taken two side by
+    // side where they may be (btoclSolveContactPair).
+    auto pairRun = [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            if (i + 1 < end && btoclPairable(at(i), at(i + 1))) {
+                btoclSolveContactPair(&b, at(i), at(i + 1), PASS, flags);
+                ++pairsSolved;
+                ++i;
+            } else {
+                solveOne(at(i));
+            }
+        }
+    };
+    // Two groups of one set share no dynamic body: the k-th constraints of both side by side give
+    // the bits of one group after the other (however their constraints pair within a group).
+    auto pairGroups = [&](const btoclGroup& g1, const btoclGroup& g2) {
+        const int n = std::min(g1.count, g2.count);
+        for (int k = 0; k < n; ++k) {
+            const btoclConstraint *c1 = at(g1.offset + k), *c2 = at(g2.offset + k);
+            if (btoclPairable(c1, c2)) {
+                btoclSolveContactPair(&b, c1, c2, PASS, flags);
+                ++pairsSolved;
+            } else {
+                solveOne(c1);
+                solveOne(c2);
+            }
+        }
+        pairRun(g1.offset + n, g1.offset + g1.count);
+        pairRun(g2.offset + n, g2.offset + g2.count);
+    };
+    if (pairs && layout) {
+        // In a fixed order a group's batches one after another are its constraints in order.
+        const std::vector<btoclGroup>& groups = layout->groups;
+        for (int s = 0; s <= BTOCL_OVERFLOW_SET; ++s)
+            for (int g = layout->setGroupStart[s]; g < layout->setGroupStart[s + 1]; g += 2) {
+                if (g + 1 < layout->setGroupStart[s + 1])
+                    pairGroups(groups[size_t(g)], groups[size_t(g) + 1]);
+                else
+                    pairRun(groups[size_t(g)].offset, groups[size_t(g)].offset + groups[size_t(g)].count);
+            }
+        return maxResidual2;
+    }
     auto walk = [&](const btoclGroup& g, const int* batchEnd, const int* solveOrder) {
         if (pairs) {
-            // In a fixed order a group's batches one after another are its constraints in order,
-            // taken two side by side where they may be (btoclSolveContactPair).
-            auto at = [&](int i) { return b.constraints + (solveOrder ? solveOrder[i] : i); };
-            for (int i = g.offset; i < g.offset + g.count; ++i) {
-                if (i + 1 < g.offset + g.count && btoclPairable(at(i), at(i + 1))) {
-                    btoclSolveContactPair(&b, at(i), at(i + 1), PASS, flags);
-                    ++pairsSolved;
-                    ++i;
-                } else {
-                    btoclSolveConstraint(&b, at(i), PASS, flags, iteration, numIterations, 0u);
-                }
-            }
+            pairRun(g.offset, g.offset + g.count);
             return;
         }
         const unsigned groupSeed = shuffled ? btoclSeedOf(passSeed, g.offset) : 0u;
