@@ -58,14 +58,20 @@ def num(v):
 
 
 def path_of(ours):
-    """How our solver ran the scene's steps: on the host, whole on the device, or split."""
+    """How our solver ran the scene's steps: on the host, whole on the device, split on the
+    device, or split on the host (splitStepsOnHost)."""
+    on_host = ours.get("stepsOnHost", 0)
+    split_on_host = ours.get("stepsOnHostSplit", 0)
+    whole = ours.get("stepsWholeOnDevice", 0)
     kinds = []
-    if ours.get("stepsOnHost"):
+    if on_host - split_on_host > 0:
         kinds.append("host")
-    if ours.get("stepsWholeOnDevice"):
+    if whole:
         kinds.append("whole")
-    if ours.get("groups"):
+    if ours.get("stepsDone", 0) - on_host - whole > 0 and ours.get("groups"):
         kinds.append("split")
+    if split_on_host:
+        kinds.append("split on host")
     return "+".join(kinds) or "-"
 
 
