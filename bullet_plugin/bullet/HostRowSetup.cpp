@@ -1,6 +1,7 @@
 #include "HostRowSetup.h"
 
 #include "BulletConversions.h"
+#include "btOpenCLSolverError.h"
 #include "row_setup.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
@@ -30,17 +31,16 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) 
     const btoclSetupParams& prm = p.setupParams;
     const bool two = p.frictionRowsPerPoint() == 2;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
-    // The joints' rows, where the gather has set them up already (then `rows` holds them alone):
-    // they move up behind the contact rows, in the same array, unless the rows go `into` a host
-    // solve. Every normal and friction row is written below, over whatever the move left there.
-    const size_t numJointRows = p.rowsOnDevice ? p.rows.size() : 0;
+    // The joints' rows: into a host solve, those the gather set up (then `rows` holds them
+    // alone); without one, the gather calls this before it adds them.
+    const size_t numJointRows = into && p.rowsOnDevice ? p.rows.size() : 0;
     const int jointStart = p.rowStart(BTOCL_ROWS_JOINT);
-    if (into) {
+    if (!into && !p.rows.empty())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: contact rows set up on the host after other rows");
+    if (into)
         into->beginRows(size_t(p.numRows()));  // as many or more: a rolling row may be left out
-    } else {
-        p.rows.resize(size_t(rollingBase) + numJointRows);
-        std::copy_backward(p.rows.begin(), p.rows.begin() + numJointRows, p.rows.end());
-    }
+    else
+        p.rows.resize(size_t(rollingBase));
     auto put = [&](int index, const btoclRow& row, int kind) {
         if (into)
             into->setRow(index, row, kind);

@@ -12,9 +12,9 @@
 
 namespace btocl {
 
-// Fills p.rows with every row in gather order ([normal][friction][rolling], then the joints' rows
-// where the gather has set them up already) and p.lateralDirs from p.points (the manifolds'
-// objects from `bullet`); clears p.rowsOnDevice. A rolling row whose anisotropic axis vanishes is
+// Fills p.rows, empty before (the joints' rows come after), with every contact row in gather
+// order ([normal][friction][rolling]) and p.lateralDirs from p.points (the manifolds' objects
+// from `bullet`); clears p.rowsOnDevice. A rolling row whose anisotropic axis vanishes is
 // left out, as SI leaves it out: the rolling rows, the joints' rows after them, and the
 // constraints' and points' references to them, are renumbered.
 // With `into`, the rows go straight into that host solve (HostSolve::setRow) instead: p.rows and
