@@ -16,6 +16,13 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// A layout's broken invariant (config.validate), counted in the stats: "" is none.
+void noteInvariants(btOpenCLSolverStats& s, const std::string& failure) {
+    if (failure.empty()) return;
+    s.validationFailures += 1;
+    s.lastValidationMessage = failure;
+}
+
 // The plan of a solver on `runtime`, whose step program is then built for its lanes.
 SolverPlan planAndSetLanes(const btOpenCLSolverConfig& config, OclRuntime& runtime) {
     const SolverPlan plan = planSolver(config, runtime);
@@ -90,13 +97,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
                       m_hostSplit);
         s.msSplit = msSince(t0);
         layout = &m_hostSplit;
-        if (m_config.validate) {
-            const std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
-            if (!failure.empty()) {
-                s.validationFailures += 1;
-                s.lastValidationMessage = failure;
-            }
-        }
+        if (m_config.validate) noteInvariants(s, validateBatchLayout(m_hostSplit, p.constraints));
     }
     const auto t0 = std::chrono::steady_clock::now();
     // Rows the gather left to a device go straight into the host solve's arrays.
@@ -149,11 +150,7 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
     if (!step.setStartsOnDevice()) view.setGroupStart = m_layout.setGroupStart();
     if (m_config.validate) {
         m_runtime.endPhases();  // the validation's read-back is not a part of the step
-        const std::string failure = validateBatchLayout(m_layout.download(), p.constraints);
-        if (!failure.empty()) {
-            s.validationFailures += 1;
-            s.lastValidationMessage = failure;
-        }
+        noteInvariants(s, validateBatchLayout(m_layout.download(), p.constraints));
     }
 
     m_runtime.beginPhase(DevicePhase::Setup);
@@ -191,10 +188,7 @@ void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const Solv
     if (m_config.validate) {
         std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
         if (failure.empty()) failure = validateLaneLayout(m_laneLayout, m_hostSplit, p.constraints);
-        if (!failure.empty()) {
-            s.validationFailures += 1;
-            s.lastValidationMessage = failure;
-        }
+        noteInvariants(s, failure);
     }
     m_runtime.beginPhase(DevicePhase::Setup);
     m_solve.arrangeInLanes(p, m_laneLayout, settings);

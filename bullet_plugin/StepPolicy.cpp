@@ -57,7 +57,8 @@ long long resolveHostStepMaxRows(int asked, const OclRuntime& runtime) {
 
 // Timed where the device's claimed launch and the host give the same bits (a CPU device, whose
 // program contracts no multiply-add: docs/architecture.md) and host steps are not switched off.
-SplitStepsOnHost resolveSplitStepsOnHost(int asked, long long hostStepMaxRows, bool claimedLaunch, const OclRuntime& runtime) {
+SplitStepsOnHost resolveSplitStepsOnHost(int asked, long long hostStepMaxRows, bool claimedLaunch,
+                                         const OclRuntime& runtime) {
     if (asked == 0 || !claimedLaunch) return SplitStepsOnHost::Never;
     if (asked == 1) return SplitStepsOnHost::Always;
     return runtime.isCpu() && hostStepMaxRows >= 0 ? SplitStepsOnHost::Timed : SplitStepsOnHost::Never;
@@ -127,8 +128,8 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
     const int simdLanes = resolveSimdLanes(config.simdLanes, runtime);  // checked on every path
     plan.simdLanes = !plan.wide() && plan.claimedLaunch ? simdLanes : 1;
-    plan.splitStepsOnHost =
-        resolveSplitStepsOnHost(config.splitStepsOnHost, plan.hostStepMaxRows, plan.claimedLaunch && !plan.wide(), runtime);
+    plan.splitStepsOnHost = resolveSplitStepsOnHost(config.splitStepsOnHost, plan.hostStepMaxRows,
+                                                    plan.claimedLaunch && !plan.wide(), runtime);
     return plan;
 }
 

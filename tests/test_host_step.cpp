@@ -246,7 +246,8 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     CHECK(host.state == device.state);
 }
 
-TEST_CASE("split steps placed by their times take both ways and give the claimed launch's bits", "[host][determinism]") {
+TEST_CASE("split steps placed by their times take both ways and give the claimed launch's bits",
+          "[host][determinism]") {
     // The timed choice runs the first steps each way by turns, so both ways are taken in a run
     // of any length; where later steps go depends on the machine, but no result does.
     const SplitRun timed = runSplit(-1, Variant::Plain, 60), device = runSplit(0, Variant::Plain, 60);
