@@ -154,7 +154,10 @@ double SplitStepTimes::Way::mean() const {
 
 void SplitStepTimes::record(bool onHost, double ms, int rows) {
     Way& way = m_ways[onHost];
-    if (way.steps++ == 0) return;  // a way's first step sets its arrays up: not its pace
+    if (!way.ran) {  // a way's first step sets its arrays up: not its pace
+        way.ran = true;
+        return;
+    }
     way.add(ms / std::max(1, rows));
     const Way& other = m_ways[!onHost];
     if (std::min(way.count, other.count) < kFirstSteps) return;

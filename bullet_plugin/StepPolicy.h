@@ -62,8 +62,8 @@ public:
 private:
     struct Way {
         double msPerRow[kWindow] = {};
-        int steps = 0;  // steps run this way
-        int count = 0;  // times kept: since the way was last timed afresh, its first step not counted
+        bool ran = false;  // a step has run this way (its first, which sizes its arrays, is not timed)
+        int count = 0;     // times kept since the way was last timed afresh
         void add(double value) { msPerRow[count++ % kWindow] = value; }
         double mean() const;
     };

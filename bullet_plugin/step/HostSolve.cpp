@@ -70,7 +70,7 @@ float solvePassOf(const btoclSolveBuffers& b, int numConstraints, const BatchLay
             }
         return maxResidual2;
     }
-    auto walk = [&](const btoclGroup& g, const int* batchEnd, const int* solveOrder) {
+    auto walk = [&](const btoclGroup& g, const int* batchEnd) {
         if (pairs) {
             pairRun(g.offset, g.offset + g.count);
             return;
@@ -83,18 +83,18 @@ float solvePassOf(const btoclSolveBuffers& b, int numConstraints, const BatchLay
             const unsigned batchSeed = shuffled ? btoclSeedOf(groupSeed, k) : 0u;
             for (int j = 0; j < end - begin; ++j) {
                 const int i = begin + btoclOrderAt(end - begin, constraintsShuffled, batchSeed, j);
-                const btoclConstraint* c = b.constraints + (solveOrder ? solveOrder[i] : i);
-                maxResidual2 = std::max(maxResidual2, btoclSolveConstraint(&b, c, PASS, flags, iteration, numIterations,
-                                                                           shuffled ? btoclSeedOf(batchSeed, i) : 0u));
+                const float residual2 = btoclSolveConstraint(&b, at(i), PASS, flags, iteration, numIterations,
+                                                             shuffled ? btoclSeedOf(batchSeed, i) : 0u);
+                maxResidual2 = std::max(maxResidual2, residual2);
             }
         }
     };
     if (!layout) {
         const btoclGroup whole{0, numConstraints, 1, 0};
-        if (numConstraints > 0) walk(whole, &numConstraints, nullptr);
+        if (numConstraints > 0) walk(whole, &numConstraints);
         return maxResidual2;
     }
-    for (const btoclGroup& g : layout->groups) walk(g, layout->batchEnd.data(), layout->solveOrder.data());
+    for (const btoclGroup& g : layout->groups) walk(g, layout->batchEnd.data());
     return maxResidual2;
 }
 
