@@ -138,6 +138,21 @@ struct Pair {
     }
 };
 
+// Every body's transform and velocities, as bytes: what two runs that must agree to the bit compare.
+inline std::vector<unsigned char> bodyBytes(const World& w) {
+    std::vector<unsigned char> out;
+    auto append = [&](const void* p, size_t n) {
+        const auto* c = static_cast<const unsigned char*>(p);
+        out.insert(out.end(), c, c + n);
+    };
+    for (const btRigidBody* b : w.bodies()) {
+        append(&b->getWorldTransform(), sizeof(btTransform));
+        append(&b->getLinearVelocity(), sizeof(btVector3));
+        append(&b->getAngularVelocity(), sizeof(btVector3));
+    }
+    return out;
+}
+
 inline btScalar distance(const btVector3& a, const btVector3& b) { return (a - b).length(); }
 inline btVector3 pos(const btRigidBody* b) { return b->getCenterOfMassPosition(); }
 

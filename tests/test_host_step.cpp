@@ -184,22 +184,16 @@ void applyVariant(World& w, Variant v) {
     }
 }
 
-// Every body's transform and velocities, and every contact point's impulse, as bytes.
+// Every body's transform and velocities (bodyBytes), then every contact point's impulse, as bytes.
 std::vector<unsigned char> stateBytes(World& w) {
-    std::vector<unsigned char> out;
-    auto put = [&](const void* p, size_t n) {
-        const auto* c = static_cast<const unsigned char*>(p);
-        out.insert(out.end(), c, c + n);
-    };
-    for (const btRigidBody* b : w.bodies()) {
-        put(&b->getWorldTransform(), sizeof(btTransform));
-        put(&b->getLinearVelocity(), sizeof(btVector3));
-        put(&b->getAngularVelocity(), sizeof(btVector3));
-    }
+    std::vector<unsigned char> out = bodyBytes(w);
     btDispatcher* d = &w.dispatcher();
     for (int i = 0; i < d->getNumManifolds(); ++i) {
         const btPersistentManifold* m = d->getManifoldByIndexInternal(i);
-        for (int k = 0; k < m->getNumContacts(); ++k) put(&m->getContactPoint(k).m_appliedImpulse, sizeof(btScalar));
+        for (int k = 0; k < m->getNumContacts(); ++k) {
+            const auto* c = reinterpret_cast<const unsigned char*>(&m->getContactPoint(k).m_appliedImpulse);
+            out.insert(out.end(), c, c + sizeof(btScalar));
+        }
     }
     return out;
 }

@@ -21,21 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Every body's transform and velocities, as bytes.
-std::vector<unsigned char> bodyBytes(const World& w) {
-    std::vector<unsigned char> out;
-    auto append = [&](const void* p, size_t n) {
-        const auto* c = static_cast<const unsigned char*>(p);
-        out.insert(out.end(), c, c + n);
-    };
-    for (const btRigidBody* b : w.bodies()) {
-        append(&b->getWorldTransform(), sizeof(btTransform));
-        append(&b->getLinearVelocity(), sizeof(btVector3));
-        append(&b->getAngularVelocity(), sizeof(btVector3));
-    }
-    return out;
-}
-
 // A pile with a chain beside it: contacts, joints (rows set up on the host) and split impulse.
 void pileAndChain(World& w) {
     groundAndPile(w, 300);
