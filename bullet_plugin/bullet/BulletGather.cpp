@@ -35,24 +35,29 @@ namespace {
 
 constexpr size_t kPrefetchAhead = 4;
 
-// Manifolds lie scattered in memory: the pack asks for a manifold a few ahead, the lines of the
-// points it holds (the count said how many) and those after its points (bodies, count and
-// thresholds). Most manifolds of a heap of ragdolls have no point: their points' lines stay away.
-void prefetchForPack(const btPersistentManifold* m, int numContacts) {
-    const char* begin = reinterpret_cast<const char*>(m);
-    const char* points = reinterpret_cast<const char*>(&m->getContactPoint(0));
-    const char* tail = points + MANIFOLD_CACHE_SIZE * sizeof(btManifoldPoint);
-    prefetchBytes(begin, size_t(points - begin) + size_t(numContacts) * sizeof(btManifoldPoint));
+// A manifold's tail: the lines after its points (bodies, count and thresholds).
+void prefetchTail(const btPersistentManifold* m) {
+    const char* tail = reinterpret_cast<const char*>(&m->getContactPoint(0)) + MANIFOLD_CACHE_SIZE * sizeof(btManifoldPoint);
     prefetchBytes(tail, size_t(reinterpret_cast<const char*>(m + 1) - tail));
 }
 
-// What the count reads of a manifold, a third of its lines: each point's distance and rolling
-// friction (one line a point), and the bodies, count and thresholds after the points (its last line).
-void prefetchForCount(const btPersistentManifold* m) {
+// Manifolds lie scattered in memory: the pack asks for a manifold a few ahead, the lines of the
+// points it holds (the count said how many) and its tail. Most manifolds of a heap of ragdolls
+// have no point: their points' lines stay away.
+void prefetchForPack(const btPersistentManifold* m, int numContacts) {
+    const char* begin = reinterpret_cast<const char*>(m);
+    const char* points = reinterpret_cast<const char*>(&m->getContactPoint(0));
+    prefetchBytes(begin, size_t(points - begin) + size_t(numContacts) * sizeof(btManifoldPoint));
+    prefetchTail(m);
+}
+
+// The count reads a manifold's tail, then a line of each point it holds (distance and rolling
+// friction): the tail is asked for first, further ahead, and the points' lines once the count it
+// holds has come (a manifold without points, most of a ragdoll heap's, costs one line).
+void prefetchPointsForCount(const btPersistentManifold* m) {
     const char* first = reinterpret_cast<const char*>(&m->getContactPoint(0));
-    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j)
+    for (int j = 0; j < m->getNumContacts(); ++j)
         __builtin_prefetch(first + size_t(j) * sizeof(btManifoldPoint) + offsetof(btManifoldPoint, m_distance1));
-    __builtin_prefetch(reinterpret_cast<const char*>(m + 1) - 1);
 }
 
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
@@ -317,7 +322,8 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(m_slots, numManifolds);
     std::fill(m_slots.begin(), m_slots.end(), ManifoldSlot{});
     parallelFor(numManifolds, [&](size_t m) {
-        if (m + kPrefetchAhead < numManifolds) prefetchForCount(m_manifolds[m + kPrefetchAhead]);
+        if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
+        if (m + kPrefetchAhead < numManifolds) prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
         countPoints(m);
     });
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
