@@ -2,6 +2,7 @@
 
 #include "BulletConversions.h"
 #include "BulletGather.h"
+#include "HostParallel.h"
 #include "HostRowSetup.h"
 #include "LaneLayout.h"
 #include "LayoutValidator.h"
@@ -11,6 +12,10 @@
 
 namespace btocl {
 namespace {
+
+// How long the host's threads wait awake for a host split step's row loop: the split before it
+// takes some tens of microseconds; a thread still waiting after this sleeps again.
+constexpr std::chrono::microseconds kHostSplitPrewake{500};
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -91,7 +96,10 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
 void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step,
                                const SolveSettings& settings, btOpenCLSolverStats& s) {
     const BatchLayout* layout = nullptr;
-    if (step.mode() == StepMode::HostSplit) {
+    const bool split = step.mode() == StepMode::HostSplit;
+    if (split) {
+        // The rows' loop that follows the split runs on the host's threads: they wake meanwhile.
+        prewakeHostThreads(kHostSplitPrewake);
         const auto t0 = std::chrono::steady_clock::now();
         splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
                       m_hostSplit);
@@ -102,7 +110,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     const auto t0 = std::chrono::steady_clock::now();
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
-    if (setHere) setupRowsOnHost(p, bullet, &m_hostSolve);
+    if (setHere) setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);
     const auto t1 = std::chrono::steady_clock::now();
     s.numIterationsRun = setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)

@@ -1,6 +1,7 @@
 #include "HostRowSetup.h"
 
 #include "BulletConversions.h"
+#include "HostParallel.h"
 #include "btOpenCLSolverError.h"
 #include "row_setup.h"
 
@@ -27,7 +28,7 @@ btoclFloat4 anisotropicForBoth(const btPersistentManifold* m, btoclFloat4 direct
 
 }  // namespace
 
-void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) {
+void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into, bool inParallel) {
     const btoclSetupParams& prm = p.setupParams;
     const bool two = p.frictionRowsPerPoint() == 2;
     const int rollingBase = p.rowStart(BTOCL_ROWS_ROLLING);
@@ -49,10 +50,10 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) 
     };
     p.lateralDirs.resize(2 * p.points.size());
     std::vector<btoclRow> rolling;
-    for (size_t ci = 0; ci < p.constraints.size(); ++ci) {
+    auto setUpConstraint = [&](size_t ci) {
         btoclConstraint& c = p.constraints[ci];
         const btPersistentManifold* m = bullet.manifoldOfConstraint[ci];
-        if (!m) continue;  // a joint's
+        if (!m) return;  // a joint's
         // Most manifolds have none: their points skip the objects' reads, and a step whose
         // gather found none reads no manifold's objects at all.
         const bool anisotropicPair = bullet.mayHaveAnisotropic &&
@@ -96,7 +97,12 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into) 
                     BTOCL_ROWS_FRICTION);
         }
         c.numRows[BTOCL_ROWS_ROLLING] = rollingBase + int(rolling.size()) - c.firstRow[BTOCL_ROWS_ROLLING];
-    }
+    };
+    // Each constraint writes its own rows alone, but rolling rows are numbered as they come.
+    if (inParallel && p.numRowsOf(BTOCL_ROWS_ROLLING) == 0)
+        parallelFor(p.constraints.size(), setUpConstraint, kContactConstraintWeight);
+    else
+        for (size_t ci = 0; ci < p.constraints.size(); ++ci) setUpConstraint(ci);
     p.regions = btoclRowRegionsOf(p.numRowsOf(BTOCL_ROWS_NORMAL), p.numRowsOf(BTOCL_ROWS_FRICTION),
                                   int(rolling.size()), p.numJointRows());
     // Rolling rows left out move the joints' rows down.

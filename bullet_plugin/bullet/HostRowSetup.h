@@ -20,6 +20,8 @@ namespace btocl {
 // With `into`, the rows go straight into that host solve (HostSolve::setRow) instead: p.rows and
 // p.rowsOnDevice are left as they were (the joints' rows alone, or none), ready for
 // HostSolve::solveRowsSet.
-void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into = nullptr);
+// inParallel: the constraints set up by the host's threads (HostParallel.h) where the step is
+// large enough and has no rolling row; the same rows as on one thread.
+void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into = nullptr, bool inParallel = false);
 
 }  // namespace btocl

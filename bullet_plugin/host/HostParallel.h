@@ -61,6 +61,10 @@ constexpr size_t kRigidBodyWeight = 4;
 // A joint's getInfo1 or getInfo2 and its rows: from about 1,000 joints a step their loops run in
 // parallel; below that, waking the pool cost more than it saved (docs/performance.md).
 constexpr size_t kJointWeight = 16;
+// A manifold's contact rows set up on the host (up to four points, three rows each): from about
+// 512 such constraints a step their loop runs in parallel, where the pool was woken ahead (a
+// split step on the host; docs/performance.md).
+constexpr size_t kContactConstraintWeight = 32;
 
 // Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
 // `weight` (an item that costs as much as several of a manifold loop's). The items are split in
