@@ -140,7 +140,8 @@ void btOpenCLConstraintSolver::prepareSolve(int numBodies, int numManifolds) {
     m_impl->run();
     // The gather's loops start once the world has built its islands: a step large enough to run
     // them in parallel wakes the host's threads now.
-    if (size_t(numManifolds) + size_t(numBodies) * btocl::kRigidBodyWeight >= btocl::minParallelItems())
+    if (size_t(numManifolds) * btocl::kManifoldWeight + size_t(numBodies) * btocl::kRigidBodyWeight >=
+        btocl::minParallelItems())
         btocl::prewakeHostThreads(std::chrono::milliseconds(5));
     m_impl->inStep = true;
     m_impl->gathering = false;

@@ -325,7 +325,7 @@ void StepGatherer::packManifolds() {
         if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
         if (m + kPrefetchAhead < numManifolds) prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
         countPoints(m);
-    });
+    }, kManifoldWeight);
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
     // would give.
     bool named = false;
@@ -366,7 +366,7 @@ void StepGatherer::packManifolds() {
         if (ahead < numManifolds && m_slots[ahead].constraint >= 0)  // a manifold left out is not read
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
-    });
+    }, kManifoldWeight);
     for (const ManifoldSlot& slot : m_slots) p.mayNeedPush = p.mayNeedPush || slot.mayNeedPush;
 }
 

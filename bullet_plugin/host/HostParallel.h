@@ -55,22 +55,25 @@ void prewakeHostThreads(std::chrono::microseconds spin);
 // a chunk itself) runs its chunks on its own thread. chunk must not throw.
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
-// What one rigid body's record weighs in a loop, against a manifold's (weight 1): reading or
-// writing a body's state costs several manifolds' packing.
+// What an item weighs in a loop, against the lightest loops' items (weight 1):
+// a manifold counted or packed by the gather, whose lines lie scattered in memory (from about
+// 5,500 manifolds a step those loops run in parallel; docs/performance.md);
+constexpr size_t kManifoldWeight = 3;
+// a rigid body's record read or written, which costs more than a manifold's packing;
 constexpr size_t kRigidBodyWeight = 4;
-// A joint's getInfo1 or getInfo2 and its rows: from about 1,000 joints a step their loops run in
-// parallel; below that, waking the pool cost more than it saved (docs/performance.md).
+// a joint's getInfo1 or getInfo2 and its rows: from about 1,000 joints a step their loops run in
+// parallel; below that, waking the pool cost more than it saved (docs/performance.md);
 constexpr size_t kJointWeight = 16;
-// A manifold's contact rows set up on the host (up to four points, three rows each): from about
+// a manifold's contact rows set up on the host (up to four points, three rows each): from about
 // 512 such constraints a step their loop runs in parallel, where the pool was woken ahead (a
 // split step on the host; docs/performance.md).
 constexpr size_t kContactConstraintWeight = 32;
 
 // Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
-// `weight` (an item that costs as much as several of a manifold loop's). The items are split in
-// contiguous ranges, eight per thread, which the threads take as they come, so that a worker
-// that wakes late still takes a share (on a VM a worker can wake after the caller has finished
-// a whole loop alone). An exception thrown by f ends its range:
+// `weight` (the constants above). The items are split in contiguous ranges, eight per thread,
+// which the threads take as they come, so that a worker that wakes late still takes a share (on
+// a VM a worker can wake after the caller has finished a whole loop alone). An exception thrown
+// by f ends its range:
 // the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
