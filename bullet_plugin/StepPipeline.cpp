@@ -108,13 +108,21 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
         if (m_config.validate) noteInvariants(s, validateBatchLayout(m_hostSplit, p.constraints));
     }
     const auto t0 = std::chrono::steady_clock::now();
+    // Contact rows alone, in passes that pair: eight groups at a time in the vector unit's lanes.
+    const bool lanes = split && HostLaneSolve::available() && stepFitsLanes(p, settings, step.passes());
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
-    if (setHere) setupRowsOnHost(p, bullet, &m_hostSolve, split);
+    if (lanes)
+        m_hostLanes.setUp(p, m_hostSplit, settings.flags, true);
+    else if (setHere)
+        setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);
+    if (lanes && m_config.validate)
+        noteInvariants(s, validateLaneLayout(m_hostLanes.layout(), m_hostSplit, p.constraints));
     const auto t1 = std::chrono::steady_clock::now();
-    s.numIterationsRun = setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
-                                 : m_hostSolve.solve(p, step.passes(), settings, layout);
+    s.numIterationsRun = lanes     ? m_hostLanes.solve(p, step.passes(), settings.flags)
+                         : setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
+                                   : m_hostSolve.solve(p, step.passes(), settings, layout);
     s.msSolve = msSince(t1);
     s.solvedOnHost = true;
     s.solvedOnHostSplit = layout != nullptr;
@@ -123,6 +131,11 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     s.numOverflowConstraints = layout ? layout->numOverflowConstraints : 0;
     s.numBatchesMax = s.numGroups > 0 ? 1 : 0;  // one run a group, as the claimed launch walks it
     s.numBatchesMean = s.numBatchesMax;
+    if (lanes) {
+        s.simdLanes = m_hostLanes.layout().lanes;
+        s.laneFill = m_hostLanes.layout().laneFill();
+        s.laneRowFill = m_hostLanes.layout().rowFill();
+    }
 }
 
 void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings,

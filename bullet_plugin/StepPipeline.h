@@ -18,6 +18,7 @@
 #include "DeviceLayout.h"
 #include "DevicePrimitives.h"
 #include "DeviceSolver.h"
+#include "HostLaneSolve.h"
 #include "HostSolve.h"
 #include "HostSplit.h"
 #include "LaneLayout.h"
@@ -85,6 +86,7 @@ private:
     HostArrangement m_hostArrangement;  // and its arrangement, likewise
     LaneLayout m_laneLayout;            // or its lane layout, likewise
     HostSolve m_hostSolve;
+    HostLaneSolve m_hostLanes;
     SplitStepTimes m_splitTimes;  // where split steps ran faster of late (SplitStepsOnHost::Timed)
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset

@@ -77,17 +77,17 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
     return runtime.isCpu() ? btOpenCLSolvePath::Serial : btOpenCLSolvePath::Wide;
 }
 
-// Whether the lanes solve every row of a step (kernels/lane_solve.h): contact rows alone, each
-// point's friction rows after its normal row's, rows set up on the device, in a pass order the
-// lanes keep (each lane walks its group as btoclSolveConstraint does in passes that pair:
-// btoclPassPairs), and the contacts' iterations all there are.
+}  // namespace
+
+// The lanes solve every row of a step (kernels/lane_solve.h, HostLaneSolve.h): contact rows
+// alone, each point's friction rows after its normal row's, rows set up from the points, in a
+// pass order the lanes keep (each lane walks its group as btoclSolveConstraint does in passes
+// that pair: btoclPassPairs), and the contacts' iterations all there are.
 bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
     return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
            passes.maxIterations == passes.numIterations &&
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }
-
-}  // namespace
 
 int resolveSimdLanes(int asked, const OclRuntime& runtime) {
     if (asked < 0) {

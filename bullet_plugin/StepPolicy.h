@@ -84,6 +84,10 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
 // than 1, 4, 8 or 16.
 int resolveSimdLanes(int asked, const OclRuntime& runtime);
 
+// Whether a step's rows can be solved in lanes (LaneLayout.h): contact rows alone, set up from
+// the points, in passes that pair (StepPolicy.cpp).
+bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes);
+
 // Whether a step split as `step` says is split on the host (HostSplit.h) rather than the device.
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step);
 

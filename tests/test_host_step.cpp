@@ -4,6 +4,7 @@
 // the same order with the same row code. Split steps solved there (splitStepsOnHost,
 // StepMode::HostSplit): the claimed launch's bits, however the timed choice falls.
 #include "FaultInjection.h"
+#include "HostLaneSolve.h"
 #include "JointScenes.h"
 #include "ParallelFrom.h"
 #include "Scenes.h"
@@ -201,19 +202,29 @@ std::vector<unsigned char> stateBytes(World& w) {
 
 struct SplitRun {
     std::vector<unsigned char> state;
-    int stepsOnHost = 0, stepsOnDevice = 0, validationFailures = 0;
+    int stepsOnHost = 0, stepsOnDevice = 0, stepsInLanes = 0, validationFailures = 0;
 };
 
-SplitRun runSplit(int onHost, Variant v, int steps, size_t parallelFrom = btocl::kMinParallelItems) {
+// Contacts and joints (pyramidAndChains), or contacts alone (a pyramid, whose split steps on the
+// host may run in lanes).
+enum class SplitScene { WithJoints, ContactsOnly };
+
+SplitRun runSplit(int onHost, Variant v, int steps, size_t parallelFrom = btocl::kMinParallelItems,
+                  SplitScene scene = SplitScene::WithJoints) {
     btocl::test::ParallelFrom threshold(parallelFrom);
     World w(SolverKind::OpenCL, splitSteps(onHost));
-    pyramidAndChains(w);
+    if (scene == SplitScene::WithJoints) {
+        pyramidAndChains(w);
+    } else {
+        groundAndPyramid(w, 10);
+    }
     applyVariant(w, v);
     SplitRun run;
     for (int s = 0; s < steps; ++s) {
         w.step();
         const btOpenCLSolverStats& stats = w.openCL()->getLastStats();
         if (stats.numGroups > 1) (stats.solvedOnHostSplit ? run.stepsOnHost : run.stepsOnDevice) += 1;
+        if (stats.solvedOnHostSplit && stats.simdLanes > 1) run.stepsInLanes += 1;
         run.validationFailures += stats.validationFailures;
     }
     run.state = stateBytes(w);
@@ -240,6 +251,25 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     }
     CHECK(host.stepsOnDevice == 0);
     REQUIRE(host.stepsOnHost == 40);
+    REQUIRE(host.state.size() == device.state.size());
+    CHECK(host.state == device.state);
+}
+
+TEST_CASE("a split step in the host's lanes gives the claimed launch's bits", "[host][determinism][lanes]") {
+    // Contact rows alone, in passes that pair: where the CPU has AVX2 the host walks eight groups
+    // at a time in its vector unit's lanes, each lane as the one-lane walk (HostLaneSolve.h), its
+    // rows set up on the host's threads. The options that do not fit lanes (a shuffled order,
+    // residuals, interleaved friction, rolling rows) walk one group at a time, as above.
+    const Variant v = GENERATE(Variant::Plain, Variant::TwoFriction, Variant::SplitImpulse, Variant::Randomized);
+    CAPTURE(int(v));
+    const SplitRun host = runSplit(1, v, 40, 1, SplitScene::ContactsOnly);
+    const SplitRun device = runSplit(0, v, 40, btocl::kMinParallelItems, SplitScene::ContactsOnly);
+    CHECK(host.validationFailures == 0);
+    if (!btocl::test::claimedRunsHere()) return;
+    REQUIRE(host.stepsOnHost == 40);
+    const bool lanes = btocl::HostLaneSolve::available() && v != Variant::Randomized;
+    CHECK(host.stepsInLanes == (lanes ? 40 : 0));
+    CHECK(device.stepsInLanes == 0);
     REQUIRE(host.state.size() == device.state.size());
     CHECK(host.state == device.state);
 }

@@ -123,8 +123,9 @@ struct btOpenCLSolverStats {
     // Of those, a step split as the device would have it and solved in its order (splitStepsOnHost).
     bool solvedOnHostSplit = false;
     int numGroups = 0;
-    // A split step solved in lanes (simdLanes): its W, 0 otherwise; the share of its slots' lanes
-    // that held a constraint, and of its row blocks' places that held a row.
+    // A split step solved in lanes (on the device with simdLanes; on the calling thread, 8, where
+    // the CPU has AVX2): its W, 0 otherwise; the share of its slots' lanes that held a
+    // constraint, and of its row blocks' places that held a row.
     int simdLanes = 0;
     double laneFill = 0, laneRowFill = 0;
     // Device memory the solver's buffers hold after the step (they are kept and grown, never

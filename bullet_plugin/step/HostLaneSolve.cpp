@@ -1,0 +1,298 @@
+#include "HostLaneSolve.h"
+
+#include "HostParallel.h"
+#include "row_solve.h"
+
+#include <cstring>
+
+// The solve's functions are built for AVX2 (eight float lanes, a blend a select) whatever the
+// build's target, and called only where the CPU has it (HostLaneSolve::available): each has the
+// target attribute, and none has external linkage, so no other code is built for AVX2.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define BTOCL_LANES_TARGET __attribute__((target("avx2")))
+#define BTOCL_HAS_HOST_LANES 1
+#else
+#define BTOCL_LANES_TARGET
+#define BTOCL_HAS_HOST_LANES 0
+#endif
+// The row functions inlined into the pass, where the slot's bodies stay in registers.
+#define BTOCL_LANES_INLINE BTOCL_LANES_TARGET inline __attribute__((always_inline))
+
+namespace btocl {
+namespace {
+
+constexpr int W = HostLaneSolve::kLanes;
+typedef float Lanes __attribute__((vector_size(4 * W)));
+typedef int LaneMask __attribute__((vector_size(4 * W)));
+
+BTOCL_LANES_INLINE Lanes load(const float* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+BTOCL_LANES_INLINE LaneMask loadInts(const int* p) {
+    LaneMask v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+BTOCL_LANES_INLINE void store(Lanes v, float* p) { std::memcpy(p, &v, sizeof v); }
+// OpenCL's select(a, b, m): b where m is set, else a.
+BTOCL_LANES_INLINE Lanes select(Lanes a, Lanes b, LaneMask m) { return m ? b : a; }
+BTOCL_LANES_INLINE Lanes splat(float x) { return Lanes{} + x; }
+
+// A side's bodies of a slot's lanes, one vector per float (lane_solve.h, btoclLaneBodies).
+struct LaneBodies {
+    Lanes lpuX, lpuY, lpuZ, apuX, apuY, apuZ;
+    Lanes linX, linY, linZ, angX, angY, angZ;
+    Lanes dynamic;
+};
+
+const float* perUnitOf(const std::vector<float>& perUnit, int slot, int side, int warmStart) {
+    return perUnit.data() + ((2 * slot + side) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * W);
+}
+
+BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const float* perUnit, const int* body, int push) {
+    LaneBodies l;
+    const int offset = push ? 8 : 0;
+    for (int i = 0; i < W; ++i) {
+        const float* d = reinterpret_cast<const float*>(deltas + body[i]) + offset;
+        l.linX[i] = d[0];
+        l.linY[i] = d[1];
+        l.linZ[i] = d[2];
+        l.angX[i] = d[4];
+        l.angY[i] = d[5];
+        l.angZ[i] = d[6];
+    }
+    l.lpuX = load(perUnit);
+    l.lpuY = load(perUnit + W);
+    l.lpuZ = load(perUnit + 2 * W);
+    l.dynamic = load(perUnit + 3 * W);
+    l.apuX = load(perUnit + 4 * W);
+    l.apuY = load(perUnit + 5 * W);
+    l.apuZ = load(perUnit + 6 * W);
+    return l;
+}
+
+// Each dynamic lane's velocities back (others never change); lanes of a slot share no dynamic body.
+BTOCL_LANES_INLINE void storeBodies(btoclBodyDelta* deltas, const int* body, int push, const LaneBodies& l) {
+    const int offset = push ? 8 : 0;
+    for (int i = 0; i < W; ++i) {
+        if (l.dynamic[i] == 0.0f) continue;
+        float* d = reinterpret_cast<float*>(deltas + body[i]) + offset;
+        d[0] = l.linX[i];
+        d[1] = l.linY[i];
+        d[2] = l.linZ[i];
+        d[4] = l.angX[i];
+        d[5] = l.angY[i];
+        d[6] = l.angZ[i];
+    }
+}
+
+#define ROW_FIELD(f) load(row + (f) * W)
+
+BTOCL_LANES_INLINE void applyImpulse(const float* row, LaneBodies& A, LaneBodies& B, Lanes impulse, LaneMask active) {
+    const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
+    A.linX = select(A.linX, A.linX + (nX * A.lpuX) * impulse, active);
+    A.linY = select(A.linY, A.linY + (nY * A.lpuY) * impulse, active);
+    A.linZ = select(A.linZ, A.linZ + (nZ * A.lpuZ) * impulse, active);
+    A.angX = select(A.angX, A.angX + (ROW_FIELD(12) * A.apuX) * impulse, active);
+    A.angY = select(A.angY, A.angY + (ROW_FIELD(13) * A.apuY) * impulse, active);
+    A.angZ = select(A.angZ, A.angZ + (ROW_FIELD(14) * A.apuZ) * impulse, active);
+    B.linX = select(B.linX, B.linX - (nX * B.lpuX) * impulse, active);
+    B.linY = select(B.linY, B.linY - (nY * B.lpuY) * impulse, active);
+    B.linZ = select(B.linZ, B.linZ - (nZ * B.lpuZ) * impulse, active);
+    B.angX = select(B.angX, B.angX + (ROW_FIELD(16) * B.apuX) * impulse, active);
+    B.angY = select(B.angY, B.angY + (ROW_FIELD(17) * B.apuY) * impulse, active);
+    B.angZ = select(B.angZ, B.angZ + (ROW_FIELD(18) * B.apuZ) * impulse, active);
+}
+
+BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower, Lanes upper, int push,
+               LaneMask active) {
+    const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
+    const Lanes old = load(applied);
+    const Lanes start = (push ? ROW_FIELD(15) : ROW_FIELD(3)) - old * ROW_FIELD(7);
+    const Lanes vX = (nX * A.linX - nX * B.linX) + (ROW_FIELD(4) * A.angX + ROW_FIELD(8) * B.angX);
+    const Lanes vY = (nY * A.linY - nY * B.linY) + (ROW_FIELD(5) * A.angY + ROW_FIELD(9) * B.angY);
+    const Lanes vZ = (nZ * A.linZ - nZ * B.linZ) + (ROW_FIELD(6) * A.angZ + ROW_FIELD(10) * B.angZ);
+    const Lanes unclamped = start - (vX + vY + vZ) * ROW_FIELD(11);
+    const Lanes sum = old + unclamped;
+    const LaneMask below = sum < lower, above = sum > upper;
+    const Lanes delta = select(select(unclamped, upper - old, above), lower - old, below);
+    const Lanes next = select(select(sum, upper, above), lower, below);
+    store(select(old, next, active), applied);
+    applyImpulse(row, A, B, delta, active);
+}
+
+#undef ROW_FIELD
+
+// A wide row's 20 floats and its impulses (setup.cl's storeLaneRow).
+void storeLaneRow(float* wide, float* applied, float* pushApplied, int block, int lane, const btoclSolveRow& r,
+                  float impulse) {
+    float* out = wide + btoclWideRowFloat(block * W + lane, 0, W);
+    const btoclFloat4 parts[5] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA,
+                                  r.angularComponentB};
+    for (int v = 0; v < 5; ++v) {
+        out[(4 * v) * W] = parts[v].x;
+        out[(4 * v + 1) * W] = parts[v].y;
+        out[(4 * v + 2) * W] = parts[v].z;
+        out[(4 * v + 3) * W] = parts[v].w;
+    }
+    applied[block * W + lane] = impulse;
+    pushApplied[block * W + lane] = 0.0f;
+}
+
+}  // namespace
+
+// setup.cl's setupLaneSlots, slot after slot: the same row code, so the same bits.
+void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, bool inParallel) {
+    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
+    const size_t numSlots = m_layout.slots.size();
+    m_rows.resize(size_t(m_layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
+    m_applied.resize(size_t(m_layout.numBlocks) * W);
+    m_pushApplied.resize(size_t(m_layout.numBlocks) * W);
+    m_perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
+    p.lateralDirs.resize(2 * p.points.size());
+    const btoclSetupParams& prm = p.setupParams;
+    const int twoDirections = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const btoclSolveRow none{};
+    auto setUpSlot = [&](size_t slot) {
+        const btoclLaneSlot& s = m_layout.slots[slot];
+        const int* ints = m_layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
+        for (int lane = 0; lane < W; ++lane) {
+            for (int side = 0; side < 2; ++side) {
+                const int body = ints[(side == 0 ? BTOCL_LANE_BODY_A : BTOCL_LANE_BODY_B) * W + lane];
+                for (int which = 0; which < 2; ++which) {  // the warm start applies the factors always
+                    const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+                    const btoclSolveBody u =
+                        btoclLoadSolveBody(p.bodies.data() + body, p.deltas.data() + body, 0, applyFactors);
+                    float* out = m_perUnit.data() + ((2 * slot + size_t(side)) * 2 + size_t(which)) *
+                                                        (BTOCL_LANE_PER_UNIT_FLOATS * W) + size_t(lane);
+                    const float values[BTOCL_LANE_PER_UNIT_FLOATS] = {
+                        u.linearPerUnit.x, u.linearPerUnit.y, u.linearPerUnit.z, u.dynamic,
+                        u.angularPerUnit.x, u.angularPerUnit.y, u.angularPerUnit.z};
+                    for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f) out[f * W] = values[f];
+                }
+            }
+            const int numPoints = ints[BTOCL_LANE_POINTS * W + lane];
+            const int firstPoint = ints[BTOCL_LANE_FIRST_POINT * W + lane];
+            float *wide = m_rows.data(), *applied = m_applied.data(), *push = m_pushApplied.data();
+            for (int k = 0; k < s.normalBlocks; ++k) {
+                const int frictionBlock = s.frictionBlock + k * (1 + twoDirections);
+                if (k >= numPoints) {
+                    storeLaneRow(wide, applied, push, s.normalBlock + k, lane, none, 0.0f);
+                    storeLaneRow(wide, applied, push, frictionBlock, lane, none, 0.0f);
+                    if (twoDirections) storeLaneRow(wide, applied, push, frictionBlock + 1, lane, none, 0.0f);
+                    continue;
+                }
+                const int i = firstPoint + k;
+                const btoclContactPoint& pt = p.points[size_t(i)];
+                const btoclBody& A = p.bodies[size_t(pt.bodyA)];
+                const btoclBody& B = p.bodies[size_t(pt.bodyB)];
+                const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
+                const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
+                storeLaneRow(wide, applied, push, s.normalBlock + k, lane, btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL),
+                             BTOCL_ROW_APPLIED(normal));
+                const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
+                p.lateralDirs[2 * size_t(i)] = ff.dir1;
+                p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
+                const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, 0);
+                storeLaneRow(wide, applied, push, frictionBlock, lane, btoclSolveRowOf(first, BTOCL_ROWS_FRICTION),
+                             BTOCL_ROW_APPLIED(first));
+                if (twoDirections) {
+                    const btoclRow second =
+                        btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, 0);
+                    storeLaneRow(wide, applied, push, frictionBlock + 1, lane,
+                                 btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
+                }
+            }
+        }
+    };
+    if (inParallel)
+        parallelFor(numSlots, setUpSlot, W * kContactConstraintWeight);
+    else
+        for (size_t slot = 0; slot < numSlots; ++slot) setUpSlot(slot);
+}
+
+namespace {
+
+// lane_solve.h's btoclSolveLaneSlot, for every slot of every bundle, set after set.
+BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const std::vector<float>& rows,
+                                      std::vector<float>& applied, std::vector<float>& pushApplied,
+                                      const std::vector<float>& perUnit, btoclBodyDelta* deltas, int pass) {
+    const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
+    const int perPoint = layout.frictionPerPoint;
+    const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
+    for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set)
+        for (int bi = layout.setBundleStart[size_t(set)]; bi < layout.setBundleStart[size_t(set) + 1]; ++bi) {
+            const btoclGroup& bundle = layout.bundles[size_t(bi)];
+            for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
+                const btoclLaneSlot& s = layout.slots[size_t(slot)];
+                const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
+                const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
+                const int* bodyB = ints + BTOCL_LANE_BODY_B * W;
+                const LaneMask numPoints = loadInts(ints + BTOCL_LANE_POINTS * W);
+                LaneBodies A = loadBodies(deltas, perUnitOf(perUnit, slot, 0, warmStart), bodyA, push);
+                LaneBodies B = loadBodies(deltas, perUnitOf(perUnit, slot, 1, warmStart), bodyB, push);
+                if (pass == BTOCL_PASS_FRICTION) {
+                    for (int k = 0; k < s.frictionBlocks; ++k) {
+                        const int block = s.frictionBlock + k;
+                        const float* row = rows.data() + size_t(block) * blockFloats;
+                        const Lanes total = load(applied.data() + size_t(s.normalBlock + k / perPoint) * W);
+                        const Lanes limit = load(row + 19 * W) * total;
+                        const LaneMask active = (numPoints * perPoint > k) & (total > 0.0f);
+                        solveRows(row, applied.data() + size_t(block) * W, A, B, -limit, limit, 0, active);
+                    }
+                } else {
+                    for (int k = 0; k < s.normalBlocks; ++k) {
+                        const int block = s.normalBlock + k;
+                        const float* row = rows.data() + size_t(block) * blockFloats;
+                        LaneMask active = numPoints > k;
+                        if (warmStart) {
+                            applyImpulse(row, A, B, load(applied.data() + size_t(block) * W), active);
+                        } else if (push) {
+                            active &= load(row + 15 * W) != 0.0f;  // no push share: skipped
+                            solveRows(row, pushApplied.data() + size_t(block) * W, A, B, splat(0.0f),
+                                      splat(BTOCL_FLT_MAX), 1, active);
+                        } else {
+                            solveRows(row, applied.data() + size_t(block) * W, A, B, splat(0.0f),
+                                      splat(BTOCL_FLT_MAX), 0, active);
+                        }
+                    }
+                }
+                storeBodies(deltas, bodyA, push, A);
+                storeBodies(deltas, bodyB, push, B);
+            }
+        }
+}
+
+}  // namespace
+
+bool HostLaneSolve::available() {
+#if BTOCL_HAS_HOST_LANES
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+void HostLaneSolve::solvePass(StepProblem& p, int pass) {
+    solveLanePass(m_layout, m_rows, m_applied, m_pushApplied, m_perUnit, p.deltas.data(), pass);
+}
+
+int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, int flags) {
+    (void)flags;
+    const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
+    int iterations = 0;
+    for (int i = 0; i < numPasses; ++i) {
+        const btoclPassStep step = btoclPassAt(passes, i);
+        solvePass(p, step.pass);
+        if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
+    }
+    // Every row's impulse back in gather order, as the write-back reads them.
+    const std::vector<int>& rowMap = m_layout.rowMap;
+    p.appliedImpulses.resize(rowMap.size());
+    for (size_t r = 0; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_applied[size_t(rowMap[r])];
+    return iterations;
+}
+
+}  // namespace btocl

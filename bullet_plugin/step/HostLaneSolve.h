@@ -1,0 +1,42 @@
+// A split step on the calling thread with its groups eight at a time in the vector unit's lanes:
+// the lane layout (LaneLayout.h) of the host's split, the contact rows set up into its blocks,
+// and each slot's four constraints solved as kernels/lane_solve.h solves them, operation for
+// operation, so that each lane's results are the one-lane walk's to the bit (HostSolve, the
+// claimed launch). Contact rows alone, in a pass that pairs (stepFitsLanes, StepPolicy.h).
+#pragma once
+
+#include "BatchLayout.h"
+#include "LaneLayout.h"
+#include "StepProblem.h"
+#include "row_setup.h"
+
+#include <vector>
+
+namespace btocl {
+
+class HostLaneSolve {
+public:
+    // AVX2's width: the solve's functions are built for AVX2 alone and run where the CPU has it.
+    static constexpr int kLanes = 8;
+    // Whether this CPU runs them (x86-64 with AVX2).
+    static bool available();
+
+    // The lane layout of `split`, then every contact row set up from p.points into its blocks
+    // (and p.lateralDirs), as the setup kernel sets them up; on the host's threads with inParallel.
+    void setUp(StepProblem& p, const BatchLayout& split, int flags, bool inParallel);
+    // The passes of `passes` over the layout; leaves p.deltas and p.appliedImpulses (gather
+    // order) as HostSolve does. Returns the velocity iterations run.
+    int solve(StepProblem& p, const btoclPassSchedule& passes, int flags);
+
+    const LaneLayout& layout() const { return m_layout; }
+
+private:
+    void solvePass(StepProblem& p, int pass);
+
+    LaneLayout m_layout;
+    std::vector<float> m_rows;                  // blocks of kLanes rows (btoclWideRowFloat)
+    std::vector<float> m_applied, m_pushApplied;  // by wide row
+    std::vector<float> m_perUnit;               // per slot and side, warm start's and others' (lane_solve.h)
+};
+
+}  // namespace btocl
