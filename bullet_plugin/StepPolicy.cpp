@@ -158,7 +158,12 @@ void SplitStepTimes::record(bool onHost, double ms, int rows) {
         way.ran = true;
         return;
     }
-    way.add(ms / std::max(1, rows));
+    // A tried way's times from before (steps ago: the scene has grown or settled since) are left
+    // out: the try alone stands for it.
+    if (m_trying)
+        way.fill(ms / std::max(1, rows));
+    else
+        way.add(ms / std::max(1, rows));
     const Way& other = m_ways[!onHost];
     if (std::min(way.count, other.count) < kFirstSteps) return;
     const bool host = way.mean() < other.mean() ? onHost : !onHost;

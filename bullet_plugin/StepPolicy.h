@@ -7,6 +7,8 @@
 #include "StepPlan.h"
 #include "btOpenCLConstraintSolver.h"
 
+#include <algorithm>
+
 namespace btocl {
 
 // Where a split step that a claimed launch would solve runs (btOpenCLSolverConfig::splitStepsOnHost).
@@ -48,7 +50,9 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
 // which the OS moves (docs/performance.md, "Split steps on the host"). Each way is timed first
 // for kFirstSteps steps by turns (a way's first step, which sizes its arrays, not counted); the
 // way not taken is then tried every kFirstTry steps, less often while it loses (up to kLastTry),
-// and timed afresh every kRetime steps, so that the choice follows a load that comes and goes.
+// a try's time standing for that way's window (its older times may be of another scene, a
+// growing pile's), and timed afresh every kRetime steps, so that the choice follows a load that
+// comes and goes.
 // No result depends on it: both ways give the same bits (tests/test_host_step.cpp).
 class SplitStepTimes {
 public:
@@ -65,6 +69,10 @@ private:
         bool ran = false;  // a step has run this way (its first, which sizes its arrays, is not timed)
         int count = 0;     // times kept since the way was last timed afresh
         void add(double value) { msPerRow[count++ % kWindow] = value; }
+        void fill(double value) {
+            for (double& v : msPerRow) v = value;
+            count = std::max(count, int(kWindow));
+        }
         double mean() const;
     };
     Way m_ways[2];  // [0] device, [1] host

@@ -255,6 +255,29 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     CHECK(host.state == device.state);
 }
 
+TEST_CASE("a tried way's time stands for its older times", "[host][policy]") {
+    // A scene that grows or settles changes both ways' times; the way not taken is known only by
+    // its tries, so a try is taken as that way's time now, not averaged with steps long past.
+    using btocl::SplitStepTimes;
+    SplitStepTimes times;
+    double deviceMs = 1.0;
+    const double hostMs = 1.5;
+    auto run = [&](int n) {
+        int host = 0;
+        for (int i = 0; i < n; ++i) {
+            const bool onHost = times.nextOnHost();
+            host += onHost ? 1 : 0;
+            times.record(onHost, onHost ? hostMs : deviceMs, 1000);
+        }
+        return host;
+    };
+    run(2 * (1 + SplitStepTimes::kFirstSteps) + 40);  // timed by turns, then the device
+    deviceMs = 3.0;  // slower for a while: the host takes the steps
+    run(8);
+    deviceMs = 1.0;  // the device's next try, a kFirstTry steps on, takes them back
+    CHECK(run(100) <= SplitStepTimes::kFirstTry + 2);
+}
+
 TEST_CASE("a split step in the host's lanes gives the claimed launch's bits", "[host][determinism][lanes]") {
     // Contact rows alone, in passes that pair: where the CPU has AVX2 the host walks eight groups
     // at a time in its vector unit's lanes, each lane as the one-lane walk (HostLaneSolve.h), its
@@ -344,8 +367,7 @@ TEST_CASE("the timed choice takes the faster way, tries the other, and follows a
     CHECK(run(3) >= 1);
     const int underLoad = run(1000);
     CHECK(underLoad > 1000 - 1000 / SplitStepTimes::kFirstTry);
-    // The load gone: back on the device once it is timed afresh (its tries alone would take a
-    // window's worth, thousands of steps, to wash the stalls out).
+    // The load gone: back on the device once it is timed afresh, if not at an earlier try.
     deviceMs = 1.0;
     run(SplitStepTimes::kRetime + 2 * firstSteps);
     CHECK(run(200) <= 200 / SplitStepTimes::kFirstTry + SplitStepTimes::kFirstSteps + 1);
