@@ -2,7 +2,7 @@
 # file look-ups at run time. The generated file is rebuilt whenever a kernel file changes.
 set(BTOCL_KERNEL_FILES
   arrange.cl batch.cl primitives.cl setup.cl solve.cl split.cl
-  batch_priority.h btocl_shared.h lane_solve.h row_setup.h row_solve.h split_grid.h vec_math.h)
+  batch_priority.h btocl_shared.h lane_setup.h lane_solve.h row_setup.h row_solve.h split_grid.h vec_math.h)
 
 function(btocl_embed_kernels out_cpp)
   set(kernel_files "")

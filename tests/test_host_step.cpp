@@ -231,6 +231,22 @@ SplitRun runSplit(int onHost, Variant v, int steps, size_t parallelFrom = btocl:
     return run;
 }
 
+// The timed choice driven by synthetic times: run(n) takes n steps of 1,000 rows each, at the
+// device's and the host's times as set, and returns how many ran on the host.
+struct TimedChoice {
+    btocl::SplitStepTimes times;
+    double deviceMs = 1.0, hostMs = 1.5;
+    int run(int n) {
+        int host = 0;
+        for (int i = 0; i < n; ++i) {
+            const bool onHost = times.nextOnHost();
+            host += onHost ? 1 : 0;
+            times.record(onHost, onHost ? hostMs : deviceMs, 1000);
+        }
+        return host;
+    }
+};
+
 }  // namespace
 
 TEST_CASE("a split step solved on the calling thread gives the claimed launch's bits", "[host][determinism]") {
@@ -253,29 +269,6 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     REQUIRE(host.stepsOnHost == 40);
     REQUIRE(host.state.size() == device.state.size());
     CHECK(host.state == device.state);
-}
-
-TEST_CASE("a tried way's time stands for its older times", "[host][policy]") {
-    // A scene that grows or settles changes both ways' times; the way not taken is known only by
-    // its tries, so a try is taken as that way's time now, not averaged with steps long past.
-    using btocl::SplitStepTimes;
-    SplitStepTimes times;
-    double deviceMs = 1.0;
-    const double hostMs = 1.5;
-    auto run = [&](int n) {
-        int host = 0;
-        for (int i = 0; i < n; ++i) {
-            const bool onHost = times.nextOnHost();
-            host += onHost ? 1 : 0;
-            times.record(onHost, onHost ? hostMs : deviceMs, 1000);
-        }
-        return host;
-    };
-    run(2 * (1 + SplitStepTimes::kFirstSteps) + 40);  // timed by turns, then the device
-    deviceMs = 3.0;  // slower for a while: the host takes the steps
-    run(8);
-    deviceMs = 1.0;  // the device's next try, a kFirstTry steps on, takes them back
-    CHECK(run(100) <= SplitStepTimes::kFirstTry + 2);
 }
 
 TEST_CASE("a split step in the host's lanes gives the claimed launch's bits", "[host][determinism][lanes]") {
@@ -341,34 +334,34 @@ TEST_CASE("splitStepsOnHost is checked, and off where host steps are off", "[hos
 
 TEST_CASE("the timed choice takes the faster way, tries the other, and follows a load", "[host][policy]") {
     using btocl::SplitStepTimes;
-    SplitStepTimes times;
-    double deviceMs = 1.0;
-    const double hostMs = 1.5;
-    // Runs n steps (1,000 rows each), returns how many ran on the host.
-    auto run = [&](int n) {
-        int host = 0;
-        for (int i = 0; i < n; ++i) {
-            const bool onHost = times.nextOnHost();
-            host += onHost ? 1 : 0;
-            times.record(onHost, onHost ? hostMs : deviceMs, 1000);
-        }
-        return host;
-    };
+    TimedChoice c;
     // Timed by turns first: a first step and kFirstSteps timed ones each way.
     const int firstSteps = 1 + SplitStepTimes::kFirstSteps;
-    CHECK(run(2 * firstSteps) == firstSteps);
+    CHECK(c.run(2 * firstSteps) == firstSteps);
     // The device faster: the host tried now and then, less often while it loses.
-    const int tries = run(1000);
+    const int tries = c.run(1000);
     CHECK(tries > 0);
     CHECK(tries <= 1000 / SplitStepTimes::kFirstTry);
     // The device's steps stalled (another process on its cores): the host once the stalls have
     // lifted the device's mean past the host's (here the second).
-    deviceMs = 6.0;
-    CHECK(run(3) >= 1);
-    const int underLoad = run(1000);
+    c.deviceMs = 6.0;
+    CHECK(c.run(3) >= 1);
+    const int underLoad = c.run(1000);
     CHECK(underLoad > 1000 - 1000 / SplitStepTimes::kFirstTry);
     // The load gone: back on the device once it is timed afresh, if not at an earlier try.
-    deviceMs = 1.0;
-    run(SplitStepTimes::kRetime + 2 * firstSteps);
-    CHECK(run(200) <= 200 / SplitStepTimes::kFirstTry + SplitStepTimes::kFirstSteps + 1);
+    c.deviceMs = 1.0;
+    c.run(SplitStepTimes::kRetime + 2 * firstSteps);
+    CHECK(c.run(200) <= 200 / SplitStepTimes::kFirstTry + SplitStepTimes::kFirstSteps + 1);
+}
+
+TEST_CASE("a tried way's time stands for its older times", "[host][policy]") {
+    // A scene that grows or settles changes both ways' times; the way not taken is known only by
+    // its tries, so a try is taken as that way's time now, not averaged with steps long past.
+    using btocl::SplitStepTimes;
+    TimedChoice c;
+    c.run(2 * (1 + SplitStepTimes::kFirstSteps) + 40);  // timed by turns, then the device
+    c.deviceMs = 3.0;  // slower for a while: the host takes the steps
+    c.run(8);
+    c.deviceMs = 1.0;  // the device's next try, a kFirstTry steps on, takes them back
+    CHECK(c.run(100) <= SplitStepTimes::kFirstTry + 2);
 }

@@ -1,6 +1,7 @@
 #include "HostLaneSolve.h"
 
 #include "HostParallel.h"
+#include "lane_setup.h"
 #include "row_solve.h"
 
 #include <cstring>
@@ -125,25 +126,9 @@ BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& 
 
 #undef ROW_FIELD
 
-// A wide row's 20 floats and its impulses (setup.cl's storeLaneRow).
-void storeLaneRow(float* wide, float* applied, float* pushApplied, int block, int lane, const btoclSolveRow& r,
-                  float impulse) {
-    float* out = wide + btoclWideRowFloat(block * W + lane, 0, W);
-    const btoclFloat4 parts[5] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA,
-                                  r.angularComponentB};
-    for (int v = 0; v < 5; ++v) {
-        out[(4 * v) * W] = parts[v].x;
-        out[(4 * v + 1) * W] = parts[v].y;
-        out[(4 * v + 2) * W] = parts[v].z;
-        out[(4 * v + 3) * W] = parts[v].w;
-    }
-    applied[block * W + lane] = impulse;
-    pushApplied[block * W + lane] = 0.0f;
-}
-
 }  // namespace
 
-// setup.cl's setupLaneSlots, slot after slot: the same row code, so the same bits.
+// Slot after slot as setup.cl's setupLaneSlots sets them up (lane_setup.h): the same bits.
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, bool inParallel) {
     layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
     const size_t numSlots = m_layout.slots.size();
@@ -152,60 +137,11 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, b
     m_pushApplied.resize(size_t(m_layout.numBlocks) * W);
     m_perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
     p.lateralDirs.resize(2 * p.points.size());
-    const btoclSetupParams& prm = p.setupParams;
-    const int twoDirections = (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
-    const btoclSolveRow none{};
     auto setUpSlot = [&](size_t slot) {
-        const btoclLaneSlot& s = m_layout.slots[slot];
-        const int* ints = m_layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
-        for (int lane = 0; lane < W; ++lane) {
-            for (int side = 0; side < 2; ++side) {
-                const int body = ints[(side == 0 ? BTOCL_LANE_BODY_A : BTOCL_LANE_BODY_B) * W + lane];
-                for (int which = 0; which < 2; ++which) {  // the warm start applies the factors always
-                    const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
-                    const btoclSolveBody u =
-                        btoclLoadSolveBody(p.bodies.data() + body, p.deltas.data() + body, 0, applyFactors);
-                    float* out = m_perUnit.data() + ((2 * slot + size_t(side)) * 2 + size_t(which)) *
-                                                        (BTOCL_LANE_PER_UNIT_FLOATS * W) + size_t(lane);
-                    const float values[BTOCL_LANE_PER_UNIT_FLOATS] = {
-                        u.linearPerUnit.x, u.linearPerUnit.y, u.linearPerUnit.z, u.dynamic,
-                        u.angularPerUnit.x, u.angularPerUnit.y, u.angularPerUnit.z};
-                    for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f) out[f * W] = values[f];
-                }
-            }
-            const int numPoints = ints[BTOCL_LANE_POINTS * W + lane];
-            const int firstPoint = ints[BTOCL_LANE_FIRST_POINT * W + lane];
-            float *wide = m_rows.data(), *applied = m_applied.data(), *push = m_pushApplied.data();
-            for (int k = 0; k < s.normalBlocks; ++k) {
-                const int frictionBlock = s.frictionBlock + k * (1 + twoDirections);
-                if (k >= numPoints) {
-                    storeLaneRow(wide, applied, push, s.normalBlock + k, lane, none, 0.0f);
-                    storeLaneRow(wide, applied, push, frictionBlock, lane, none, 0.0f);
-                    if (twoDirections) storeLaneRow(wide, applied, push, frictionBlock + 1, lane, none, 0.0f);
-                    continue;
-                }
-                const int i = firstPoint + k;
-                const btoclContactPoint& pt = p.points[size_t(i)];
-                const btoclBody& A = p.bodies[size_t(pt.bodyA)];
-                const btoclBody& B = p.bodies[size_t(pt.bodyB)];
-                const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
-                const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
-                storeLaneRow(wide, applied, push, s.normalBlock + k, lane, btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL),
-                             BTOCL_ROW_APPLIED(normal));
-                const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
-                p.lateralDirs[2 * size_t(i)] = ff.dir1;
-                p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
-                const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, 0);
-                storeLaneRow(wide, applied, push, frictionBlock, lane, btoclSolveRowOf(first, BTOCL_ROWS_FRICTION),
-                             BTOCL_ROW_APPLIED(first));
-                if (twoDirections) {
-                    const btoclRow second =
-                        btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, 0);
-                    storeLaneRow(wide, applied, push, frictionBlock + 1, lane,
-                                 btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
-                }
-            }
-        }
+        btoclSetupLaneSlot(p.points.data(), p.bodies.data(), p.deltas.data(), m_layout.slots[slot],
+                           m_layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W), int(slot), m_rows.data(),
+                           m_applied.data(), m_pushApplied.data(), m_perUnit.data(), p.lateralDirs.data(),
+                           &p.setupParams, flags, W);
     };
     if (inParallel)
         parallelFor(numSlots, setUpSlot, W * kContactConstraintWeight);

@@ -1,0 +1,92 @@
+// A slot of a step in lanes set up (docs/architecture.md, "Lanes"): each lane's points' rows from
+// the row code of row_setup.h, written to the slot's blocks lane by lane (btoclWideRowFloat's
+// layout), and the per-unit scales of each side's bodies, the warm start's and the other passes'
+// (BTOCL_LANE_PER_UNIT_FLOATS), kept per slot. Written once for the device (kernels/setup.cl,
+// setupLaneSlots: one work-item a slot) and the host (bullet_plugin/step/HostLaneSolve.cpp), so
+// both give the one-lane setup's bits.
+#ifndef BTOCL_LANE_SETUP_H
+#define BTOCL_LANE_SETUP_H
+
+#include "row_setup.h"
+#include "row_solve.h"
+
+// Row `r` to lane `lane` of block `block` of `lanes`-wide blocks, its starting impulse with it: a
+// row of zeros and no impulse where the lane has no row there (masked in the solve; no float
+// left uninitialised).
+BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float* applied,
+                                    BTOCL_GLOBAL float* pushApplied, int lanes, int block, int lane,
+                                    btoclSolveRow r, float impulse) {
+    BTOCL_GLOBAL float* out = wide + btoclWideRowFloat(block * lanes + lane, 0, lanes);
+    const btoclFloat4 parts[5] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA,
+                                  r.angularComponentB};
+    for (int v = 0; v < 5; ++v) {
+        out[(4 * v) * lanes] = parts[v].x;
+        out[(4 * v + 1) * lanes] = parts[v].y;
+        out[(4 * v + 2) * lanes] = parts[v].z;
+        out[(4 * v + 3) * lanes] = parts[v].w;
+    }
+    applied[block * lanes + lane] = impulse;
+    pushApplied[block * lanes + lane] = 0.0f;
+}
+
+// Slot `slot` (s, its lanes' ints `ints`) of a layout `lanes` wide: its rows into `wide`,
+// `applied` and `pushApplied`, its per-unit scales into `slotPerUnit` (every slot's), and its
+// points' friction directions into lateralDirs (two a point, as setupContactRows writes them).
+BTOCL_INLINE void btoclSetupLaneSlot(BTOCL_GLOBAL const btoclContactPoint* points, BTOCL_GLOBAL const btoclBody* bodies,
+                                     BTOCL_GLOBAL const btoclBodyDelta* deltas, btoclLaneSlot s,
+                                     BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* wide,
+                                     BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
+                                     BTOCL_GLOBAL float* slotPerUnit, BTOCL_GLOBAL btoclFloat4* lateralDirs,
+                                     const btoclSetupParams* prm, int flags, int lanes) {
+    const int twoDirections = (prm->solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const btoclSolveRow none = {btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4()};
+    for (int lane = 0; lane < lanes; ++lane) {
+        for (int side = 0; side < 2; ++side) {
+            const int body = ints[(side == 0 ? BTOCL_LANE_BODY_A : BTOCL_LANE_BODY_B) * lanes + lane];
+            for (int which = 0; which < 2; ++which) {  // the warm start applies the factors always
+                const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+                const btoclSolveBody u = btoclLoadSolveBody(bodies + body, deltas + body, 0, applyFactors);
+                BTOCL_GLOBAL float* out =
+                    slotPerUnit + ((2 * slot + side) * 2 + which) * (BTOCL_LANE_PER_UNIT_FLOATS * lanes) + lane;
+                const float values[BTOCL_LANE_PER_UNIT_FLOATS] = {u.linearPerUnit.x,  u.linearPerUnit.y,
+                                                                  u.linearPerUnit.z,  u.dynamic,
+                                                                  u.angularPerUnit.x, u.angularPerUnit.y,
+                                                                  u.angularPerUnit.z};
+                for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f) out[f * lanes] = values[f];
+            }
+        }
+        const int numPoints = ints[BTOCL_LANE_POINTS * lanes + lane];
+        const int firstPoint = ints[BTOCL_LANE_FIRST_POINT * lanes + lane];
+        for (int k = 0; k < s.normalBlocks; ++k) {
+            const int frictionBlock = s.frictionBlock + k * (1 + twoDirections);
+            if (k >= numPoints) {
+                btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane, none, 0.0f);
+                btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane, none, 0.0f);
+                if (twoDirections)
+                    btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane, none, 0.0f);
+                continue;
+            }
+            const int i = firstPoint + k;
+            const btoclContactPoint pt = points[i];
+            const btoclBody A = bodies[pt.bodyA];
+            const btoclBody B = bodies[pt.bodyB];
+            const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
+            const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, prm);
+            btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane,
+                              btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL), BTOCL_ROW_APPLIED(normal));
+            const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm->solverMode);
+            lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
+            lateralDirs[2 * i + 1] = ff.dir2;
+            const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, prm, ff.motion1, ff.cfmSlip, 0);
+            btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane,
+                              btoclSolveRowOf(first, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(first));
+            if (twoDirections) {
+                const btoclRow second = btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, prm, ff.motion2, ff.cfmSlip, 0);
+                btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane,
+                                  btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
+            }
+        }
+    }
+}
+
+#endif
