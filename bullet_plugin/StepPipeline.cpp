@@ -113,14 +113,14 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
     if (lanes)
-        m_hostLanes.setUp(p, m_hostSplit, settings.flags, true);
+        m_hostLanes.setUp(p, m_hostSplit, settings.flags);
     else if (setHere)
         setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);
     if (lanes && m_config.validate)
         noteInvariants(s, validateLaneLayout(m_hostLanes.layout(), m_hostSplit, p.constraints));
     const auto t1 = std::chrono::steady_clock::now();
-    s.numIterationsRun = lanes     ? m_hostLanes.solve(p, step.passes(), settings.flags)
+    s.numIterationsRun = lanes     ? m_hostLanes.solve(p, step.passes())
                          : setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
                                    : m_hostSolve.solve(p, step.passes(), settings, layout);
     s.msSolve = msSince(t1);

@@ -52,7 +52,8 @@ const float* perUnitOf(const std::vector<float>& perUnit, int slot, int side, in
     return perUnit.data() + ((2 * slot + side) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * W);
 }
 
-BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const float* perUnit, const int* body, int push) {
+BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const float* perUnit, const int* body,
+                                         int push) {
     LaneBodies l;
     const int offset = push ? 8 : 0;
     for (int i = 0; i < W; ++i) {
@@ -107,8 +108,8 @@ BTOCL_LANES_INLINE void applyImpulse(const float* row, LaneBodies& A, LaneBodies
     B.angZ = select(B.angZ, B.angZ + (ROW_FIELD(18) * B.apuZ) * impulse, active);
 }
 
-BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower, Lanes upper, int push,
-               LaneMask active) {
+BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower,
+                                  Lanes upper, int push, LaneMask active) {
     const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
     const Lanes old = load(applied);
     const Lanes start = (push ? ROW_FIELD(15) : ROW_FIELD(3)) - old * ROW_FIELD(7);
@@ -129,7 +130,7 @@ BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& 
 }  // namespace
 
 // Slot after slot as setup.cl's setupLaneSlots sets them up (lane_setup.h): the same bits.
-void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, bool inParallel) {
+void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
     layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
     const size_t numSlots = m_layout.slots.size();
     m_rows.resize(size_t(m_layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
@@ -137,16 +138,12 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, b
     m_pushApplied.resize(size_t(m_layout.numBlocks) * W);
     m_perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
     p.lateralDirs.resize(2 * p.points.size());
-    auto setUpSlot = [&](size_t slot) {
+    parallelFor(numSlots, [&](size_t slot) {
         btoclSetupLaneSlot(p.points.data(), p.bodies.data(), p.deltas.data(), m_layout.slots[slot],
                            m_layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W), int(slot), m_rows.data(),
                            m_applied.data(), m_pushApplied.data(), m_perUnit.data(), p.lateralDirs.data(),
                            &p.setupParams, flags, W);
-    };
-    if (inParallel)
-        parallelFor(numSlots, setUpSlot, W * kContactConstraintWeight);
-    else
-        for (size_t slot = 0; slot < numSlots; ++slot) setUpSlot(slot);
+    }, W * kContactConstraintWeight);
 }
 
 namespace {
@@ -211,17 +208,12 @@ bool HostLaneSolve::available() {
 #endif
 }
 
-void HostLaneSolve::solvePass(StepProblem& p, int pass) {
-    solveLanePass(m_layout, m_rows, m_applied, m_pushApplied, m_perUnit, p.deltas.data(), pass);
-}
-
-int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, int flags) {
-    (void)flags;
+int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes) {
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
-        solvePass(p, step.pass);
+        solveLanePass(m_layout, m_rows, m_applied, m_pushApplied, m_perUnit, p.deltas.data(), step.pass);
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
     // Every row's impulse back in gather order, as the write-back reads them.

@@ -1,6 +1,6 @@
 // A split step on the calling thread with its groups eight at a time in the vector unit's lanes:
 // the lane layout (LaneLayout.h) of the host's split, the contact rows set up into its blocks,
-// and each slot's four constraints solved as kernels/lane_solve.h solves them, operation for
+// and each slot's eight constraints solved as kernels/lane_solve.h solves them, operation for
 // operation, so that each lane's results are the one-lane walk's to the bit (HostSolve, the
 // claimed launch). Contact rows alone, in a pass that pairs (stepFitsLanes, StepPolicy.h).
 #pragma once
@@ -22,21 +22,19 @@ public:
     static bool available();
 
     // The lane layout of `split`, then every contact row set up from p.points into its blocks
-    // (and p.lateralDirs), as the setup kernel sets them up; on the host's threads with inParallel.
-    void setUp(StepProblem& p, const BatchLayout& split, int flags, bool inParallel);
+    // (and p.lateralDirs), as the setup kernel sets them up, on the host's threads.
+    void setUp(StepProblem& p, const BatchLayout& split, int flags);
     // The passes of `passes` over the layout; leaves p.deltas and p.appliedImpulses (gather
     // order) as HostSolve does. Returns the velocity iterations run.
-    int solve(StepProblem& p, const btoclPassSchedule& passes, int flags);
+    int solve(StepProblem& p, const btoclPassSchedule& passes);
 
     const LaneLayout& layout() const { return m_layout; }
 
 private:
-    void solvePass(StepProblem& p, int pass);
-
     LaneLayout m_layout;
-    std::vector<float> m_rows;                  // blocks of kLanes rows (btoclWideRowFloat)
+    std::vector<float> m_rows;                    // blocks of kLanes rows (btoclWideRowFloat)
     std::vector<float> m_applied, m_pushApplied;  // by wide row
-    std::vector<float> m_perUnit;               // per slot and side, warm start's and others' (lane_solve.h)
+    std::vector<float> m_perUnit;                 // per slot and side, warm start's and others' (lane_solve.h)
 };
 
 }  // namespace btocl
