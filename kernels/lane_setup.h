@@ -29,17 +29,11 @@ BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float
     pushApplied[block * lanes + lane] = 0.0f;
 }
 
-// Slot `slot` (s, its lanes' ints `ints`) of a layout `lanes` wide: its rows into `wide`,
-// `applied` and `pushApplied`, its per-unit scales into `slotPerUnit` (every slot's), and its
-// points' friction directions into lateralDirs (two a point, as setupContactRows writes them).
-BTOCL_INLINE void btoclSetupLaneSlot(BTOCL_GLOBAL const btoclContactPoint* points, BTOCL_GLOBAL const btoclBody* bodies,
-                                     BTOCL_GLOBAL const btoclBodyDelta* deltas, btoclLaneSlot s,
-                                     BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* wide,
-                                     BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
-                                     BTOCL_GLOBAL float* slotPerUnit, BTOCL_GLOBAL btoclFloat4* lateralDirs,
-                                     const btoclSetupParams* prm, int flags, int lanes) {
-    const int twoDirections = (prm->solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
-    const btoclSolveRow none = {btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4()};
+// The per-unit scales of slot `slot`'s bodies (its lanes' ints `ints`, in a layout `lanes` wide):
+// each side's, the warm start's and the other passes', into `slotPerUnit` (every slot's).
+BTOCL_INLINE void btoclSetupLanePerUnit(BTOCL_GLOBAL const btoclBody* bodies, BTOCL_GLOBAL const btoclBodyDelta* deltas,
+                                        BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* slotPerUnit,
+                                        int flags, int lanes) {
     for (int lane = 0; lane < lanes; ++lane) {
         for (int side = 0; side < 2; ++side) {
             const int body = ints[(side == 0 ? BTOCL_LANE_BODY_A : BTOCL_LANE_BODY_B) * lanes + lane];
@@ -55,38 +49,62 @@ BTOCL_INLINE void btoclSetupLaneSlot(BTOCL_GLOBAL const btoclContactPoint* point
                 for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f) out[f * lanes] = values[f];
             }
         }
-        const int numPoints = ints[BTOCL_LANE_POINTS * lanes + lane];
-        const int firstPoint = ints[BTOCL_LANE_FIRST_POINT * lanes + lane];
-        for (int k = 0; k < s.normalBlocks; ++k) {
-            const int frictionBlock = s.frictionBlock + k * (1 + twoDirections);
-            if (k >= numPoints) {
-                btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane, none, 0.0f);
-                btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane, none, 0.0f);
-                if (twoDirections)
-                    btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane, none, 0.0f);
-                continue;
-            }
-            const int i = firstPoint + k;
-            const btoclContactPoint pt = points[i];
-            const btoclBody A = bodies[pt.bodyA];
-            const btoclBody B = bodies[pt.bodyB];
-            const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
-            const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, prm);
-            btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane,
-                              btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL), BTOCL_ROW_APPLIED(normal));
-            const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm->solverMode);
-            lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
-            lateralDirs[2 * i + 1] = ff.dir2;
-            const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, prm, ff.motion1, ff.cfmSlip, 0);
-            btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane,
-                              btoclSolveRowOf(first, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(first));
-            if (twoDirections) {
-                const btoclRow second = btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, prm, ff.motion2, ff.cfmSlip, 0);
-                btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane,
-                                  btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
-            }
+    }
+}
+
+// The rows of lane `lane` of slot s (its lanes' ints `ints`) into `wide`, `applied` and
+// `pushApplied`, and its points' friction directions into lateralDirs (two a point, as
+// setupContactRows writes them).
+BTOCL_INLINE void btoclSetupLaneRows(BTOCL_GLOBAL const btoclContactPoint* points, BTOCL_GLOBAL const btoclBody* bodies,
+                                     btoclLaneSlot s, BTOCL_GLOBAL const int* ints, int lane, BTOCL_GLOBAL float* wide,
+                                     BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
+                                     BTOCL_GLOBAL btoclFloat4* lateralDirs, const btoclSetupParams* prm, int lanes) {
+    const int twoDirections = (prm->solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) != 0;
+    const btoclSolveRow none = {btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4(), btoclZero4()};
+    const int numPoints = ints[BTOCL_LANE_POINTS * lanes + lane];
+    const int firstPoint = ints[BTOCL_LANE_FIRST_POINT * lanes + lane];
+    for (int k = 0; k < s.normalBlocks; ++k) {
+        const int frictionBlock = s.frictionBlock + k * (1 + twoDirections);
+        if (k >= numPoints) {
+            btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane, none, 0.0f);
+            btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane, none, 0.0f);
+            if (twoDirections)
+                btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane, none, 0.0f);
+            continue;
+        }
+        const int i = firstPoint + k;
+        const btoclContactPoint pt = points[i];
+        const btoclBody A = bodies[pt.bodyA];
+        const btoclBody B = bodies[pt.bodyB];
+        const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
+        const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, prm);
+        btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane,
+                          btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL), BTOCL_ROW_APPLIED(normal));
+        const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm->solverMode);
+        lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
+        lateralDirs[2 * i + 1] = ff.dir2;
+        const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, prm, ff.motion1, ff.cfmSlip, 0);
+        btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane,
+                          btoclSolveRowOf(first, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(first));
+        if (twoDirections) {
+            const btoclRow second = btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, prm, ff.motion2, ff.cfmSlip, 0);
+            btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane,
+                              btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
         }
     }
+}
+
+// Slot `slot` (s, its lanes' ints `ints`) of a layout `lanes` wide: its per-unit scales and every
+// lane's rows.
+BTOCL_INLINE void btoclSetupLaneSlot(BTOCL_GLOBAL const btoclContactPoint* points, BTOCL_GLOBAL const btoclBody* bodies,
+                                     BTOCL_GLOBAL const btoclBodyDelta* deltas, btoclLaneSlot s,
+                                     BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* wide,
+                                     BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
+                                     BTOCL_GLOBAL float* slotPerUnit, BTOCL_GLOBAL btoclFloat4* lateralDirs,
+                                     const btoclSetupParams* prm, int flags, int lanes) {
+    btoclSetupLanePerUnit(bodies, deltas, ints, slot, slotPerUnit, flags, lanes);
+    for (int lane = 0; lane < lanes; ++lane)
+        btoclSetupLaneRows(points, bodies, s, ints, lane, wide, applied, pushApplied, lateralDirs, prm, lanes);
 }
 
 #endif

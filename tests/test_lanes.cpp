@@ -4,6 +4,7 @@
 // group a work-item; the lane layout keeps its invariants, and its validator finds a broken one.
 #include "BulletConversions.h"
 #include "GatherAndSolve.h"
+#include "HostLaneSolve.h"
 #include "HostSplit.h"
 #include "LaneLayout.h"
 #include "Scenes.h"
@@ -11,10 +12,13 @@
 #include "TestWorld.h"
 #include "WorldSnapshot.h"
 #include "btOpenCLConstraintSolver.h"
+#include "lane_setup.h"
 
 #include <catch2/catch.hpp>
 
+#include <cstring>
 #include <utility>
+#include <vector>
 
 using namespace testworld;
 using btocl::test::ScopedEnv;
@@ -144,6 +148,81 @@ TEST_CASE("the lane layout keeps its invariants, and its validator finds a broke
     // Rows the lanes do not solve: a layout is refused.
     CHECK_THROWS_AS(layOutLanes(split, p.constraints.data(), p.regions, lanes, 2, minBundles, layout),
                     btOpenCLSolverError);
+}
+
+TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane setup's bits", "[lanes][host]") {
+    // HostLaneSolve sets a slot's rows up in vectors where every point is a plain contact, and one
+    // lane at a time (lane_setup.h, the device's code) where one is not: either way the bits of
+    // lane_setup.h's setup of every slot. Boxes tumbling onto the ground and bouncing (restitution
+    // above its threshold, points on the fixed body and between boxes, friction along the sliding
+    // velocity and across a resting normal), under the options the row setup reads.
+    using namespace btocl;
+    if (!HostLaneSolve::available()) {
+        WARN("no AVX2 on this CPU: the host's lanes are not used");
+        return;
+    }
+    struct Options {
+        int solverMode;
+        bool splitImpulse;
+        int flags;
+        bool ownCfm;  // some points with their own cfm, some with cached directions: one lane at a time
+    };
+    const Options o = GENERATE(Options{SOLVER_USE_WARMSTARTING, false, 0, false},
+                               Options{SOLVER_USE_WARMSTARTING | SOLVER_USE_2_FRICTION_DIRECTIONS, true,
+                                       BTOCL_FLAG_APPLY_FACTORS, false},
+                               Options{SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION, true, 0, false},
+                               Options{SOLVER_USE_WARMSTARTING | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING |
+                                           SOLVER_USE_2_FRICTION_DIRECTIONS,
+                                       false, 0, true});
+    CAPTURE(o.solverMode, o.splitImpulse, o.flags, o.ownCfm);
+    World w(SolverKind::Reference);
+    groundAndTumblingPile(w, 125);
+    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) objects[i]->setRestitution(btScalar(0.5));
+    size_t inVectors = 0, oneLane = 0;
+    HostLaneSolve lanes;
+    for (int s = 0; s < 60; ++s) {
+        w.step();
+        if (s % 6 != 5) continue;
+        btContactSolverInfo info = w.stepInfo();
+        info.m_solverMode = o.solverMode;
+        info.m_splitImpulse = o.splitImpulse;
+        StepProblem p = test::gatherProblem(w, info, RowSetup::Device);
+        if (p.constraints.empty()) continue;
+        if (o.ownCfm)
+            for (size_t i = 0; i < p.points.size(); i += 13) {
+                p.points[i].flags |= i % 2 ? BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM : BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+                BTOCL_POINT_CONTACT_CFM(p.points[i]) = 0.01f;
+            }
+        BatchLayout split;
+        splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, SplitParams{}, true, split);
+        const std::vector<btoclFloat4> dirsBefore(p.lateralDirs.begin(), p.lateralDirs.end());
+        lanes.setUp(p, split, o.flags);
+        const LaneLayout& l = lanes.layout();
+        const int W = l.lanes;
+        std::vector<float> rows(lanes.rows().size()), applied(lanes.applied().size()),
+            pushApplied(lanes.pushApplied().size()), perUnit(lanes.perUnit().size());
+        std::vector<btoclFloat4> dirs = dirsBefore;
+        dirs.resize(p.lateralDirs.size());
+        for (size_t slot = 0; slot < l.slots.size(); ++slot)
+            btoclSetupLaneSlot(p.points.data(), p.bodies.data(), p.deltas.data(), l.slots[slot],
+                               l.laneInts.data() + slot * BTOCL_LANE_INTS * size_t(W), int(slot), rows.data(),
+                               applied.data(), pushApplied.data(), perUnit.data(), dirs.data(), &p.setupParams,
+                               o.flags, W);
+        INFO("step " << s << ", " << p.points.size() << " points");
+        auto sameBits = [](const auto& a, const auto& b) {
+            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+        };
+        CHECK(sameBits(lanes.rows(), rows));
+        CHECK(sameBits(lanes.applied(), applied));
+        CHECK(sameBits(lanes.pushApplied(), pushApplied));
+        CHECK(sameBits(lanes.perUnit(), perUnit));
+        CHECK(sameBits(std::vector<btoclFloat4>(p.lateralDirs.begin(), p.lateralDirs.end()), dirs));
+        inVectors += lanes.slotsInVectors();
+        oneLane += l.slots.size() - lanes.slotsInVectors();
+    }
+    CHECK(inVectors > 20);
+    if (o.ownCfm) CHECK(oneLane > 0);
 }
 
 TEST_CASE("a lane count other than 1, 4, 8 or 16 is refused with a clear error", "[lanes]") {
