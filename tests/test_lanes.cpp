@@ -5,6 +5,9 @@
 #include "BulletConversions.h"
 #include "GatherAndSolve.h"
 #include "HostLaneSolve.h"
+#include "HostRowSetup.h"
+#include "HostSolve.h"
+#include "LaneVectors.h"
 #include "HostSplit.h"
 #include "LaneLayout.h"
 #include "Scenes.h"
@@ -223,6 +226,66 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
     }
     CHECK(inVectors > 20);
     if (o.ownCfm) CHECK(oneLane > 0);
+}
+
+TEST_CASE("a host step's rows set up eight points at a time are the one-by-one setup's bits", "[host][setup]") {
+    // setupRowsOnHost into a host solve sets eight consecutive points up in vectors where all
+    // eight are plain contacts (LaneRowSetup.h), and one by one where one is not; into p.rows it
+    // sets every point up one by one. The two must give the same records to the bit, on a
+    // bouncing, tumbling pile, under the options the row setup reads.
+    using namespace btocl;
+    if (!lanesAvailable()) {
+        WARN("no AVX2 on this CPU: the host's lanes are not used");
+        return;
+    }
+    const int solverMode = GENERATE(SOLVER_USE_WARMSTARTING,
+                                    SOLVER_USE_WARMSTARTING | SOLVER_USE_2_FRICTION_DIRECTIONS,
+                                    SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION,
+                                    SOLVER_USE_WARMSTARTING | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING);
+    const bool splitImpulse = GENERATE(false, true);
+    CAPTURE(solverMode, splitImpulse);
+    World w(SolverKind::Reference);
+    groundAndTumblingPile(w, 125);
+    btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) objects[i]->setRestitution(btScalar(0.5));
+    int stepsCompared = 0;
+    for (int s = 0; s < 60; ++s) {
+        w.step();
+        if (s % 6 != 5) continue;
+        btContactSolverInfo info = w.stepInfo();
+        info.m_solverMode = solverMode;
+        info.m_splitImpulse = splitImpulse;
+        test::GatheredStep oneByOne = test::gatherStep(w, info, RowSetup::Device);
+        test::GatheredStep inLanes = test::gatherStep(w, info, RowSetup::Device);
+        StepProblem& p = oneByOne.problem;
+        if (p.points.empty()) continue;
+        // Some points with a cfm of their own or cached directions: their runs one by one.
+        for (StepProblem* q : {&oneByOne.problem, &inLanes.problem})
+            for (size_t i = 0; i < q->points.size(); i += 29) {
+                q->points[i].flags |= i % 2 ? BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM : BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+                BTOCL_POINT_CONTACT_CFM(q->points[i]) = 0.01f;
+            }
+        setupRowsOnHost(p, oneByOne.bullet);
+        HostSolve solve;
+        setupRowsOnHost(inLanes.problem, inLanes.bullet, &solve);
+        const HostSolve::RowRecords records = solve.rowRecords();
+        INFO("step " << s << ", " << p.points.size() << " points");
+        REQUIRE(p.rows.size() == size_t(p.numRows()));
+        bool same = true;
+        for (int r = 0; r < p.numRows(); ++r) {
+            const btoclRow& row = p.rows[size_t(r)];
+            const btoclSolveRow expected = btoclSolveRowOf(row, r < p.numContactPoints() ? BTOCL_ROWS_NORMAL : BTOCL_ROWS_FRICTION);
+            same = same && std::memcmp(&expected, &records.rows[r], sizeof expected) == 0 &&
+                   records.normalOfRow[r] == row.frictionIndex &&
+                   std::memcmp(&BTOCL_ROW_APPLIED(row), &records.applied[r], sizeof(float)) == 0 &&
+                   std::memcmp(&BTOCL_ROW_APPLIED_PUSH(row), &records.pushApplied[r], sizeof(float)) == 0;
+        }
+        CHECK(same);
+        CHECK(std::memcmp(p.lateralDirs.data(), inLanes.problem.lateralDirs.data(),
+                          p.lateralDirs.size() * sizeof(btoclFloat4)) == 0);
+        ++stepsCompared;
+    }
+    CHECK(stepsCompared >= 5);
 }
 
 TEST_CASE("a lane count other than 1, 4, 8 or 16 is refused with a clear error", "[lanes]") {

@@ -34,6 +34,15 @@ public:
         m_applied[i] = BTOCL_ROW_APPLIED(row);
         m_pushApplied[i] = BTOCL_ROW_APPLIED_PUSH(row);
     }
+    // setRow's records, for a setup that writes them itself (LaneRowSetup.h): each row's record,
+    // its normal row (-1 for a normal row) and its starting impulses, by gather index.
+    struct RowRecords {
+        btoclSolveRow* rows;
+        int* normalOfRow;
+        float* applied;
+        float* pushApplied;
+    };
+    RowRecords rowRecords() { return {m_rows.data(), m_normalOfRow.data(), m_applied.data(), m_pushApplied.data()}; }
     int solveRowsSet(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
                      const BatchLayout* layout = nullptr);
 

@@ -1,0 +1,53 @@
+// Eight float lanes (AVX2) as GCC's vector types, for the host's lanes (HostLaneSolve.cpp,
+// LaneRowSetup.cpp). Every function here and in its users is built for AVX2 whatever the build's
+// target, and called only where the CPU has it (lanesAvailable): each has the target attribute
+// and internal linkage, so no other code is built for AVX2.
+#pragma once
+
+#include <cstring>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define BTOCL_LANES_TARGET __attribute__((target("avx2")))
+#define BTOCL_HAS_HOST_LANES 1
+#else
+#define BTOCL_LANES_TARGET
+#define BTOCL_HAS_HOST_LANES 0
+#endif
+// Inlined into their callers, where the lanes stay in registers.
+#define BTOCL_LANES_INLINE BTOCL_LANES_TARGET inline __attribute__((always_inline))
+
+namespace btocl {
+
+// Whether this CPU runs the lanes' code (x86-64 with AVX2).
+inline bool lanesAvailable() {
+#if BTOCL_HAS_HOST_LANES
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+namespace {
+
+constexpr int W = 8;
+typedef float Lanes __attribute__((vector_size(4 * W)));
+typedef int LaneMask __attribute__((vector_size(4 * W)));
+
+BTOCL_LANES_INLINE Lanes load(const float* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+BTOCL_LANES_INLINE LaneMask loadInts(const int* p) {
+    LaneMask v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+BTOCL_LANES_INLINE void store(Lanes v, float* p) { std::memcpy(p, &v, sizeof v); }
+// OpenCL's select(a, b, m): b where m is set, else a.
+BTOCL_LANES_INLINE Lanes select(Lanes a, Lanes b, LaneMask m) { return m ? b : a; }
+BTOCL_LANES_INLINE Lanes splat(float x) { return Lanes{} + x; }
+
+}  // namespace
+}  // namespace btocl
