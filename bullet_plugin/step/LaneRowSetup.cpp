@@ -310,14 +310,6 @@ BTOCL_LANES_TARGET bool pointRowsInLanes(StepProblem& p, size_t first, size_t co
 
 }  // namespace
 
-bool pointInLanes(const btoclContactPoint& pt, int solverMode) {
-    const int own = BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM | BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP |
-                    BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING | BTOCL_CONTACT_FLAG_FRICTION_ANCHOR;
-    const bool cached = (solverMode & BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING) &&
-                        (pt.flags & BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED);
-    return (pt.flags & own) == 0 && !cached;
-}
-
 bool setUpSlotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                           const int* ints, float* wide, float* applied, float* pushApplied, btoclFloat4* lateralDirs,
                           const btoclSetupParams& prm) {

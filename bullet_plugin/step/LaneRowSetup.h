@@ -15,7 +15,13 @@ class HostSolve;
 
 // Whether the lanes set a point's rows up: a contact with the solver's own cfm and erp, no
 // friction anchor, its friction directions chosen this step (not cached).
-bool pointInLanes(const btoclContactPoint& pt, int solverMode);
+inline bool pointInLanes(const btoclContactPoint& pt, int solverMode) {
+    const int own = BTOCL_CONTACT_FLAG_HAS_CONTACT_CFM | BTOCL_CONTACT_FLAG_HAS_CONTACT_ERP |
+                    BTOCL_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING | BTOCL_CONTACT_FLAG_FRICTION_ANCHOR;
+    const bool cached = (solverMode & BTOCL_SOLVER_ENABLE_FRICTION_DIRECTION_CACHING) &&
+                        (pt.flags & BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED);
+    return (pt.flags & own) == 0 && !cached;
+}
 
 // A lane layout's slot (s, its lanes' ints `ints`): its rows into the blocks of `wide`, `applied`
 // and `pushApplied` and its points' friction directions into lateralDirs, as lane_setup.h's
