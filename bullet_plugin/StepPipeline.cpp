@@ -88,6 +88,7 @@ void StepPipeline::run(StepProblem& p, const BulletStep& bullet, const btContact
     s.numContactPoints = p.numContactPoints();
     s.numConstraintRows = p.numRows();
     s.numJointRows = p.numJointRows();
+    restHostThreads();  // the step's loops are over
 }
 
 // Every row set up on the calling thread (the contact rows from the points, as the setup kernel
@@ -140,6 +141,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
 
 void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
                                  btOpenCLSolverStats& s) {
+    restHostThreads();  // the device's threads take the cores now
     checkStepFitsDevice(countsOf(p), m_limits);
 
     m_runtime.clearPhases();

@@ -200,3 +200,39 @@ TEST_CASE("parallelFor's loops run right around pre-wakes of the pool", "[host][
     waker.join();
     CHECK(allRight);
 }
+
+TEST_CASE("a loop below the threshold takes the pool while it waits awake, and not once it rests",
+          "[host][parallel]") {
+    if (btocl::hostThreads() < 2) {
+        WARN("one hardware thread: no pool to wait awake");
+        return;
+    }
+    // Loops of 2,000 items, under the threshold of 8,000 but above its share for an awake pool.
+    ParallelFrom threshold(8000);
+    const size_t n = 2000;
+    static_assert(8000 / btocl::kAwakeThresholdDivisor <= 2000, "the loop is big enough for an awake pool");
+    // Whether another thread ran one of the loop's items: the first item waits (up to 2 s) for
+    // one to, so a loop on the calling thread alone says no rather than hang.
+    auto ranOnTwoThreads = [n] {
+        const std::thread::id caller = std::this_thread::get_id();
+        std::atomic<bool> other{false};
+        std::vector<int> hits(n, 0);
+        btocl::parallelFor(n, [&](size_t i) {
+            hits[i] += 1;
+            if (std::this_thread::get_id() != caller) other = true;
+            if (i == 0) {
+                const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+                while (!other && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+            }
+        });
+        REQUIRE(std::count(hits.begin(), hits.end(), 1) == long(n));
+        return other.load();
+    };
+    btocl::prewakeHostThreads(std::chrono::seconds(30));
+    CHECK(btocl::hostThreadsAwake());
+    CHECK(ranOnTwoThreads());
+    CHECK(ranOnTwoThreads());  // and the next loop within the deadline
+    btocl::restHostThreads();
+    CHECK_FALSE(btocl::hostThreadsAwake());
+    CHECK_FALSE(ranOnTwoThreads());
+}

@@ -234,11 +234,13 @@ bool StepGatherer::canMove(const ManifoldSlot& slot) const {
 void StepGatherer::countPoints(size_t m) {
     ManifoldSlot& slot = m_slots[m];
     const btPersistentManifold& manifold = *m_manifolds[m];
+    // Its bodies are named even without a point, as SI names them.
     slot.bodyA = knownBodyOf(manifold.getBody0());
     slot.bodyB = knownBodyOf(manifold.getBody1());
+    slot.numContacts = manifold.getNumContacts();
+    if (slot.numContacts == 0) return;  // most of a heap's manifolds: nothing more to read
     slot.anisotropic = hasAnisotropicFriction(manifold.getBody0()) || hasAnisotropicFriction(manifold.getBody1());
     if (slot.bodyA >= 0 && slot.bodyB >= 0) slot.solved = canMove(slot);
-    slot.numContacts = manifold.getNumContacts();
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {
         const btManifoldPoint& cp = manifold.getContactPoint(j);

@@ -68,9 +68,18 @@ public:
         {
             std::lock_guard<std::mutex> lock(m_mutex);
             ++m_prewakes;
-            m_spinUntil = std::chrono::steady_clock::now() + spin;
+            m_spinUntil.store((std::chrono::steady_clock::now() + spin).time_since_epoch().count(),
+                              std::memory_order_relaxed);
         }
         m_wake.notify_all();
+    }
+
+    // Ends a pre-wake's deadline: the workers sleep once their loops are done.
+    void rest() { m_spinUntil.store(0, std::memory_order_relaxed); }
+
+    bool awake() const {
+        return !m_workers.empty() && std::chrono::steady_clock::now().time_since_epoch().count() <
+                                         m_spinUntil.load(std::memory_order_relaxed);
     }
 
 private:
@@ -85,11 +94,8 @@ private:
                 if (m_generation == seen) {
                     // Woken ahead of a loop: wait for it awake, up to the deadline, then sleep again.
                     seenPrewakes = m_prewakes;
-                    const auto until = m_spinUntil;
                     lock.unlock();
-                    while (m_published.load(std::memory_order_acquire) == seen &&
-                           std::chrono::steady_clock::now() < until)
-                        std::this_thread::yield();
+                    waitAwake(seen);
                     continue;
                 }
                 seenPrewakes = m_prewakes;
@@ -99,11 +105,21 @@ private:
                 ++job->joined;
             }
             const int ran = runChunks(*job);
-            std::lock_guard<std::mutex> lock(m_mutex);
-            job->unfinished -= ran;
-            --job->joined;
-            if (job->unfinished == 0 && job->joined == 0) m_done.notify_all();
+            {
+                std::lock_guard<std::mutex> lock(m_mutex);
+                job->unfinished -= ran;
+                --job->joined;
+                if (job->unfinished == 0 && job->joined == 0) m_done.notify_all();
+            }
+            // Within a pre-wake's deadline the next loop of the same step is near: wait for it
+            // awake, as for the first, rather than sleep and be woken again for each loop.
+            waitAwake(seen);
         }
+    }
+
+    // Yields until a loop newer than `seen` is published or the pre-wake's deadline passes.
+    void waitAwake(unsigned long seen) {
+        while (m_published.load(std::memory_order_acquire) == seen && awake()) std::this_thread::yield();
     }
 
     static int runChunks(Job& job) {
@@ -127,7 +143,8 @@ private:
     unsigned long m_generation = 0;
     std::atomic<unsigned long> m_published{0};  // m_generation, for workers that wait awake
     unsigned long m_prewakes = 0;
-    std::chrono::steady_clock::time_point m_spinUntil;
+    // The pre-wake's deadline (steady_clock ticks): read by every loop, so not under the mutex.
+    std::atomic<std::chrono::steady_clock::rep> m_spinUntil{0};
     bool m_stopping = false;
 };
 
@@ -143,6 +160,10 @@ HostPool& pool() {
 int hostThreads() { return pool().threads(); }
 
 void prewakeHostThreads(std::chrono::microseconds spin) { pool().prewake(spin); }
+
+void restHostThreads() { pool().rest(); }
+
+bool hostThreadsAwake() { return pool().awake(); }
 
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context) {
     pool().run(numChunks, chunk, context);

@@ -45,10 +45,19 @@ inline void prefetchBytes(const void* begin, size_t bytes, bool forWrite = false
     }
 }
 
-// Wakes the pool's threads ahead of loops to come: each waits awake for the next loop, up to
-// `spin`, then sleeps again. A core that has idled a while (a VM's, above all) takes milliseconds
-// to wake, and a loop that starts meanwhile runs on the calling thread alone.
+// Wakes the pool's threads ahead of loops to come: each waits awake for the next loop, and
+// after each loop for the one after, up to `spin`, then sleeps again. A core that has idled a
+// while (a VM's, above all) takes milliseconds to wake, and a loop that starts meanwhile runs on
+// the calling thread alone. restHostThreads ends the wait early (the loops are over, and the
+// cores are wanted for other work).
 void prewakeHostThreads(std::chrono::microseconds spin);
+void restHostThreads();
+// Whether the pool's threads wait awake (within a pre-wake's deadline).
+bool hostThreadsAwake();
+
+// While the pool waits awake a loop costs no wake-up, and smaller loops pay: the threshold is
+// divided by this (docs/performance.md, "The host's loops").
+constexpr size_t kAwakeThresholdDivisor = 8;
 
 // Runs chunk(c) for c in [0, numChunks) over the pool's threads, the calling thread taking part,
 // and returns when every chunk has run. One loop at a time: a second caller (another thread, or
@@ -78,7 +87,9 @@ constexpr size_t kContactConstraintWeight = 32;
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
     const size_t threads = size_t(hostThreads());
-    if (n * weight < minParallelItems() || threads < 2) {
+    const size_t items = n * weight;
+    if (items < minParallelItems() / kAwakeThresholdDivisor || threads < 2 ||
+        (items < minParallelItems() && !hostThreadsAwake())) {
         for (size_t i = 0; i < n; ++i) f(i);
         return;
     }
