@@ -350,46 +350,65 @@ def replace_block(path, name, lines):
         f.write(text)
 
 
+def newest(run_list):
+    return max((m.get("date", "") for _, m in run_list), default="")
+
+
 def docs():
     machines = sorted(os.path.basename(p) for p in glob.glob(os.path.join(BENCH, "*")) if os.path.isdir(p))
     if not machines:
         sys.exit("perf_report: nothing kept in docs/bench/ (scripts/record-bench.sh)")
+    # The machine recorded last first: each machine's speed and busy tables stand one after
+    # another; the other kinds come from the first machine that has them.
+    machines.sort(key=lambda m: newest(runs(m, "speed")), reverse=True)
     perf = os.path.join(ROOT, "docs", "performance.md")
-    # One machine for now; the README's table comes from the first that has speed runs.
+    readme = os.path.join(ROOT, "README.md")
+    info = {m: load(os.path.join(BENCH, m, "machine.json")) for m in machines}
+    speed_lines, glance_lines, busy_lines = [], [], []
     for machine in machines:
-        info = load(os.path.join(BENCH, machine, "machine.json"))
-        header = ["Machine `%s`: %s." % (machine, info.get("description", ""))]
         speed = runs(machine, "speed")
         if speed:
             lines, per_scene, names = speed_table(machine, speed)
-            replace_block(perf, "speed", header + ["", "Runs: %s." % run_sources(speed), ""] + lines)
-            replace_block(os.path.join(ROOT, "README.md"), "glance", glance_table(per_scene, names) + [
-                "", "(%d runs on %s, `docs/bench/%s/`)" % (len(speed), info.get("short", machine), machine)])
+            speed_lines += (["", ""] if speed_lines else []) + [
+                "Machine `%s`: %s." % (machine, info[machine].get("description", "")), "",
+                "Runs: %s." % run_sources(speed), ""] + lines
+            glance_lines += ([""] if glance_lines else []) + glance_table(per_scene, names) + [
+                "", "(%d runs on %s, `docs/bench/%s/`)" % (len(speed), info[machine].get("short", machine), machine)]
         busy = runs(machine, "busy")
         if busy:
-            lines, _, _ = speed_table(machine, busy)
-            replace_block(perf, "busy", ["Runs: %s." % run_sources(busy), ""] + lines)
-        growth = runs(machine, "growth")
-        if growth:
-            folder = growth[-1][0]
-            replace_block(perf, "growth", ["Run: %s." % run_sources(growth[-1:]), ""] +
-                          growth_lines(folder, growth_names(folder)))
-            growth_plot(growth, os.path.join(ROOT, "docs", "growth.png"))
-        startup = runs(machine, "startup")
-        if startup:
-            replace_block(perf, "startup", ["Runs: %s." % run_sources(startup), ""] + startup_table(startup))
-            replace_block(os.path.join(ROOT, "README.md"), "startup", startup_table(startup) + [
-                "", "(%s, `docs/bench/%s/`)" % (info.get("short", machine), machine)])
-        hardware = runs(machine, "hardware")
-        if hardware and speed:
-            replace_block(perf, "limit", ["Runs: %s; %s." % (run_sources(speed[-1:]), run_sources(hardware[-1:])), ""]
-                          + limit_table(speed, hardware))
-        quality = runs(machine, "quality")
-        if quality:
-            replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",
-                          ["Run: %s, machine `%s`." % (run_sources(quality[-1:]), machine), ""] +
-                          quality_lines(quality[-1][0], quality_names(quality[-1][0])))
-        break
+            busy_lines += (["", ""] if busy_lines else []) + [
+                "Machine `%s`. Runs: %s." % (machine, run_sources(busy)), ""] + speed_table(machine, busy)[0]
+    if speed_lines:
+        replace_block(perf, "speed", speed_lines)
+        replace_block(readme, "glance", glance_lines)
+    if busy_lines:
+        replace_block(perf, "busy", busy_lines)
+
+    def first(kind):
+        return next(((m, runs(m, kind)) for m in machines if runs(m, kind)), (None, []))
+
+    machine, growth = first("growth")
+    if growth:
+        folder = growth[-1][0]
+        replace_block(perf, "growth", ["Run: %s, machine `%s`." % (run_sources(growth[-1:]), machine), ""] +
+                      growth_lines(folder, growth_names(folder)))
+        growth_plot(growth, os.path.join(ROOT, "docs", "growth.png"))
+    machine, startup = first("startup")
+    if startup:
+        replace_block(perf, "startup", ["Runs: %s, machine `%s`." % (run_sources(startup), machine), ""] +
+                      startup_table(startup))
+        replace_block(readme, "startup", startup_table(startup) + [
+            "", "(%s, `docs/bench/%s/`)" % (info[machine].get("short", machine), machine)])
+    machine, hardware = first("hardware")
+    speed = runs(machine, "speed") if machine else []
+    if hardware and speed:
+        replace_block(perf, "limit", ["Runs: %s; %s, machine `%s`." % (
+            run_sources(speed[-1:]), run_sources(hardware[-1:]), machine), ""] + limit_table(speed, hardware))
+    machine, quality = first("quality")
+    if quality:
+        replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",
+                      ["Run: %s, machine `%s`." % (run_sources(quality[-1:]), machine), ""] +
+                      quality_lines(quality[-1][0], quality_names(quality[-1][0])))
 
 
 def main(argv):
