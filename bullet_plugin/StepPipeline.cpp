@@ -16,6 +16,13 @@ namespace {
 // How long the host's threads wait awake for a host split step's row loop: the split before it
 // takes some tens of microseconds; a thread still waiting after this sleeps again.
 constexpr std::chrono::microseconds kHostSplitPrewake{500};
+// A lane layout whose row places are filled less than this is solved one lane a group instead:
+// pile 1,000's (0.43) was no faster in lanes, block's, columns' and the 3D pyramid's (0.68 to
+// 0.76) were (docs/performance.md, "Lanes set up by the host").
+constexpr double kMinLaneRowFill = 0.6;
+// After a layout filled less, the steps that follow go without one for this many steps (making it
+// costs a pile's step a few per cent): a scene's manifolds change slowly.
+constexpr int kStepsWithoutLanes = 32;
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -153,14 +160,40 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
 
     // The global split on the host where it costs less than the device's launches, else with the
     // local batches on the device, from the constraints just uploaded.
-    double msHostSplit = 0, msHostArrange = 0;
+    double msHostSplit = 0;
     const bool hostSplit = splitsOnHost(m_plan, p, step);
     if (hostSplit) {
         const auto t0 = std::chrono::steady_clock::now();
         splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
                       m_hostSplit);
         msHostSplit = msSince(t0);
-        if (step.inLanes()) return solveInLanes(p, step, settings, s, msHostSplit);
+    }
+    if (step.inLanes()) {
+        // Lanes mostly empty (manifolds of unlike point counts side by side) solve no faster than
+        // one lane: the claimed launch over the same split, to the same bits.
+        const StepPlan oneLane = StepPlan::claimed(step.passes());
+        if (m_stepsWithoutLanes > 0) {
+            --m_stepsWithoutLanes;
+            return solveSplit(p, oneLane, settings, s, true, msHostSplit, 0);
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), p.frictionRowsPerPoint(),
+                    int(m_runtime.computeUnits()), m_laneLayout);
+        const double msLayout = msSince(t0);
+        if (!m_plan.lanesWhereTheyFill || m_laneLayout.rowFill() >= kMinLaneRowFill)
+            return solveInLanes(p, step, settings, s, msHostSplit, msLayout);
+        m_stepsWithoutLanes = kStepsWithoutLanes;
+        return solveSplit(p, oneLane, settings, s, true, msHostSplit, msLayout);
+    }
+    solveSplit(p, step, settings, s, hostSplit, msHostSplit, 0);
+}
+
+// A split step on the device once its constraints are uploaded (and split, with hostSplit):
+// the layout, the rows placed and set up, the passes.
+void StepPipeline::solveSplit(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
+                              btOpenCLSolverStats& s, bool hostSplit, double msHostSplit, double msLaneLayout) {
+    double msHostArrange = 0;
+    if (hostSplit) {
         m_layout.upload(m_hostSplit, step);
     } else {
         m_layout.build(m_solve.constraints(), int(p.constraints.size()), p.splitBodies, splitParamsOf(m_config), step);
@@ -186,7 +219,7 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
     m_solve.arrange(p, view, hostSplit ? &m_hostArrangement : nullptr);
     iterateAndDownload(p, step, view, settings, s);
     s.msSplit += msHostSplit;
-    s.msSetup += msHostArrange;
+    s.msSetup += msHostArrange + msLaneLayout;
 }
 
 // The passes and the step's one wait, once the rows are set up; the device's phases to the stats.
@@ -200,24 +233,27 @@ void StepPipeline::iterateAndDownload(StepProblem& p, const StepPlan& step, cons
     fillDeviceStats(s, p, step);
 }
 
-// A step in lanes, split on the host (msHostSplit): the lane layout made from the split, the rows
-// set up in its blocks, the passes in one launch.
+// A step in lanes, split on the host (msHostSplit) and laid out in lanes (msLayout): the rows set
+// up in the layout's blocks, the passes in one launch.
 void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
-                                btOpenCLSolverStats& s, double msHostSplit) {
-    const auto t0 = std::chrono::steady_clock::now();
-    layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), p.frictionRowsPerPoint(),
-                int(m_runtime.computeUnits()), m_laneLayout);
-    const double msLayout = msSince(t0);
+                                btOpenCLSolverStats& s, double msHostSplit, double msLayout) {
     if (m_config.validate) {
         std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
         if (failure.empty()) failure = validateLaneLayout(m_laneLayout, m_hostSplit, p.constraints);
         noteInvariants(s, failure);
     }
+    // On a CPU device in the host's memory, eight lanes' rows are set up by the host's vector
+    // code on both cores, in place (the setup kernel runs a slot a work-item, scalar).
+    const bool rowsOnHost = m_laneLayout.lanes == HostLaneSolve::kLanes && HostLaneSolve::available() &&
+                            m_runtime.hostUnifiedMemory();
+    const auto t1 = std::chrono::steady_clock::now();
+    if (rowsOnHost) setUpLaneRows(p, m_laneLayout, settings.flags, m_laneRows);
+    const double msRowsOnHost = msSince(t1);
     m_runtime.beginPhase(DevicePhase::Setup);
-    m_solve.arrangeInLanes(p, m_laneLayout, settings);
+    m_solve.arrangeInLanes(p, m_laneLayout, settings, rowsOnHost ? &m_laneRows : nullptr);
     iterateAndDownload(p, step, DeviceLayoutView{}, settings, s);
     s.msSplit += msHostSplit;
-    s.msSetup += msLayout;
+    s.msSetup += msLayout + msRowsOnHost;
     s.numCellGroups = m_hostSplit.setGroupStart[BTOCL_NUM_SETS];
     s.numGroups = m_hostSplit.setGroupStart[BTOCL_NUM_SETS + 1];
     s.numOverflowConstraints = m_hostSplit.numOverflowConstraints;

@@ -67,8 +67,10 @@ private:
     void solveOnHost(StepProblem& p, const BulletStep& bullet, const StepPlan& step, const SolveSettings& settings,
                      btOpenCLSolverStats& s);
     void solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s);
+    void solveSplit(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s,
+                    bool hostSplit, double msHostSplit, double msLaneLayout);
     void solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings, btOpenCLSolverStats& s,
-                      double msHostSplit);
+                      double msHostSplit, double msLayout);
     void iterateAndDownload(StepProblem& p, const StepPlan& step, const DeviceLayoutView& view,
                             const SolveSettings& settings, btOpenCLSolverStats& s);
     void fillDeviceStats(btOpenCLSolverStats& s, const StepProblem& p, const StepPlan& step) const;
@@ -85,9 +87,11 @@ private:
     BatchLayout m_hostSplit;  // the split made on the host (splitsOnHost), read by the queue
     HostArrangement m_hostArrangement;  // and its arrangement, likewise
     LaneLayout m_laneLayout;            // or its lane layout, likewise
+    LaneRows m_laneRows;                // and that layout's rows, where the host sets them up
     HostSolve m_hostSolve;
     HostLaneSolve m_hostLanes;
     SplitStepTimes m_splitTimes;  // where split steps ran faster of late (SplitStepsOnHost::Timed)
+    int m_stepsWithoutLanes = 0;  // steps left to solve one lane a group after a layout filled too little
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset
 };

@@ -1,5 +1,7 @@
 #include "StepPolicy.h"
 
+#include "HostLaneSolve.h"
+
 #include "LaneLayout.h"
 #include "row_solve.h"
 
@@ -89,7 +91,8 @@ bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const bt
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }
 
-int resolveSimdLanes(int asked, const OclRuntime& runtime) {
+int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic) {
+    if (automatic) *automatic = false;
     if (asked < 0) {
         if (const char* env = std::getenv("BT_OPENCL_SIMD_LANES"); env && *env) {
             const std::string value = lowerCase(env);
@@ -107,9 +110,13 @@ int resolveSimdLanes(int asked, const OclRuntime& runtime) {
         throw btOpenCLSolverError("btOpenCLConstraintSolver: simdLanes is " + std::to_string(asked) +
                                   "; it takes -1 (automatic), 1, 4, 8 or 16");
     if (!runtime.isCpu()) return 1;  // a GPU's lanes are the wide path's work-items
-    // Automatic: one group a work-item. On the test machine the lanes' faster solve was given back
-    // in their setup and the host's split they need (docs/performance.md, "Lanes").
-    return asked > 0 ? asked : 1;
+    if (asked > 0) return asked;
+    if (automatic) *automatic = true;
+    // Automatic: eight where the host sets their rows up in the CPU's vector unit and hands them
+    // over in place (AVX2, a device in the host's memory: StepPipeline::solveInLanes); elsewhere
+    // one group a work-item, the lanes' faster solve being given back in the setup kernel
+    // (docs/performance.md, "Lanes").
+    return HostLaneSolve::available() && runtime.hostUnifiedMemory() ? HostLaneSolve::kLanes : 1;
 }
 
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime) {
@@ -126,8 +133,10 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     plan.claimedLaunch = runtime.isCpu();
     plan.hostSplitMaxConstraints = runtime.isCpu() && !plan.wide() ? kHostSplitMaxConstraints : 0;
     plan.autoWholeStepMaxRows = wholeStepMaxRowsSerial(runtime, plan.hostSplitMaxConstraints > 0);
-    const int simdLanes = resolveSimdLanes(config.simdLanes, runtime);  // checked on every path
+    bool automaticLanes = false;
+    const int simdLanes = resolveSimdLanes(config.simdLanes, runtime, &automaticLanes);  // checked on every path
     plan.simdLanes = !plan.wide() && plan.claimedLaunch ? simdLanes : 1;
+    plan.lanesWhereTheyFill = automaticLanes;
     plan.splitStepsOnHost = resolveSplitStepsOnHost(config.splitStepsOnHost, plan.hostStepMaxRows,
                                                     plan.claimedLaunch && !plan.wide(), runtime);
     return plan;
@@ -190,14 +199,17 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
     // about a hundred a step, each cost PoCL more than a small group's work; docs/performance.md);
     // the wide path, and the serial path on a GPU, launch once per set and pass.
     if (solver.wide() || !solver.claimedLaunch) return StepPlan::perSet(solver.lanes, passes);
-    if (solver.simdLanes > 1 && stepFitsLanes(p, settings, passes)) return StepPlan::claimedInLanes(passes, solver.simdLanes);
     const StepPlan claimed = StepPlan::claimed(passes);
+    const StepPlan device = solver.simdLanes > 1 && stepFitsLanes(p, settings, passes)
+                                ? StepPlan::claimedInLanes(passes, solver.simdLanes)
+                                : claimed;
     // The host walks the host's split alone (the device's, past hostSplitMaxConstraints, is
-    // another layout).
-    if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, claimed)) return claimed;
+    // another layout; the lanes' layout is the host's split's, at any size, but a step that large
+    // is not tried on one thread).
+    if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, claimed)) return device;
     if (solver.splitStepsOnHost == SplitStepsOnHost::Always) return StepPlan::onHostSplit(passes);
-    if (!times) return claimed;
-    return (times->nextOnHost() ? StepPlan::onHostSplit(passes) : claimed).asTimed();
+    if (!times) return device;
+    return (times->nextOnHost() ? StepPlan::onHostSplit(passes) : device).asTimed();
 }
 
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {

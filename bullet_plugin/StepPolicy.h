@@ -30,8 +30,10 @@ struct SolverPlan {
     // the host does in less; past it the device's split, on every core, is faster. 0: never.
     size_t hostSplitMaxConstraints = 0;
     // Split steps' groups solved this many at a time in the vector unit's lanes where the step's
-    // rows allow (LaneLayout.h); 1: one group a work-item.
+    // rows allow (LaneLayout.h); 1: one group a work-item. Chosen automatically, the lanes take a
+    // step only where its layout fills them (StepPipeline::solveOnDevice); asked for, always.
     int simdLanes = 1;
+    bool lanesWhereTheyFill = false;
     // Such a claimed step solved on the calling thread instead (StepPlan::onHostSplit), to the
     // same bits on a CPU device: never, always, or as the recent steps' times say.
     SplitStepsOnHost splitStepsOnHost = SplitStepsOnHost::Never;
@@ -88,9 +90,10 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
                   SplitStepTimes* times = nullptr);
 
 // The lanes a solver on `runtime` asks for (config.simdLanes, or BT_OPENCL_SIMD_LANES): 1 on a
-// device that is not a CPU, and where neither asks. Throws btOpenCLSolverError for a width other
-// than 1, 4, 8 or 16.
-int resolveSimdLanes(int asked, const OclRuntime& runtime);
+// device that is not a CPU; where neither asks, 8 on a CPU device in the host's memory whose host
+// has AVX2 (the host sets the lanes' rows up), else 1, and *automatic says so. Throws
+// btOpenCLSolverError for a width other than 1, 4, 8 or 16.
+int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic = nullptr);
 
 // Whether a step's rows can be solved in lanes (LaneLayout.h): contact rows alone, set up from
 // the points, in passes that pair (StepPolicy.cpp).

@@ -62,8 +62,9 @@ btOpenCLSolverStats requireSameAsOneLane(int lanes, Build build, int steps = 30)
 }  // namespace
 
 TEST_CASE("a step in lanes ends to the bit where one group a work-item ends", "[lanes]") {
-    // 4: 128-bit vectors; 16: four of them, and the lane names past 9 (a to f).
-    const int lanes = GENERATE(4, 16);
+    // 4: 128-bit vectors; 8: AVX2's, its rows set up by the host where the CPU has AVX2 (the
+    // device in the host's memory); 16: four vectors, and the lane names past 9 (a to f).
+    const int lanes = GENERATE(4, 8, 16);
     const bool pyramid = GENERATE(false, true);  // a pyramid's neighbouring manifolds share boxes
     const bool twoFriction = GENERATE(false, true);
     CAPTURE(lanes, pyramid, twoFriction);
@@ -80,6 +81,27 @@ TEST_CASE("a step in lanes ends to the bit where one group a work-item ends", "[
     CHECK(stats.laneFill > 0.0);
     CHECK(stats.laneFill <= 1.0);
     CHECK(stats.laneRowFill > 0.0);
+}
+
+TEST_CASE("lanes chosen automatically take the steps whose layout they fill, to the bit of one lane", "[lanes]") {
+    // Where the host sets the lanes' rows up (AVX2, PoCL), the solver takes eight lanes by itself,
+    // for a step whose layout fills its rows' places well (a field of columns: manifolds of four
+    // points side by side), and walks one group a work-item where it does not (a pile: manifolds
+    // of one to four points). Either way the bits of one lane.
+    ScopedEnv env("BT_OPENCL_SIMD_LANES", "auto");
+    const bool hostSetsRowsUp = btocl::HostLaneSolve::available() && btocl::test::testDeviceIsCpu();
+    const btOpenCLSolverStats field = requireSameAsOneLane(-1, [](World& w) {
+        groundAndColumn(w, 3);
+        for (int x = 0; x < 12; ++x)
+            for (int z = 0; z < 12; ++z)
+                if (x + z > 0) addColumn(w, 3, btScalar(3 * x), btScalar(3 * z));
+    });
+    CHECK(field.numContactPoints > 1000);
+    CHECK(field.simdLanes == (hostSetsRowsUp ? 8 : 0));
+    if (hostSetsRowsUp) CHECK(field.laneRowFill >= 0.6);
+    const btOpenCLSolverStats pile = requireSameAsOneLane(-1, [](World& w) { groundAndPile(w, 200); }, 60);
+    CHECK(pile.numContactPoints > 100);
+    CHECK(pile.simdLanes == 0);
 }
 
 TEST_CASE("steps whose rows the lanes do not solve walk one group a work-item", "[lanes]") {
@@ -203,8 +225,9 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
         lanes.setUp(p, split, o.flags);
         const LaneLayout& l = lanes.layout();
         const int W = l.lanes;
-        std::vector<float> rows(lanes.rows().size()), applied(lanes.applied().size()),
-            pushApplied(lanes.pushApplied().size()), perUnit(lanes.perUnit().size());
+        const LaneRows& set = lanes.rows();
+        std::vector<float> rows(set.rows.size()), applied(set.applied.size()), pushApplied(set.pushApplied.size()),
+            perUnit(set.perUnit.size());
         std::vector<btoclFloat4> dirs = dirsBefore;
         dirs.resize(p.lateralDirs.size());
         for (size_t slot = 0; slot < l.slots.size(); ++slot)
@@ -216,10 +239,10 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
         auto sameBits = [](const auto& a, const auto& b) {
             return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
         };
-        CHECK(sameBits(lanes.rows(), rows));
-        CHECK(sameBits(lanes.applied(), applied));
-        CHECK(sameBits(lanes.pushApplied(), pushApplied));
-        CHECK(sameBits(lanes.perUnit(), perUnit));
+        CHECK(sameBits(set.rows, rows));
+        CHECK(sameBits(set.applied, applied));
+        CHECK(sameBits(set.pushApplied, pushApplied));
+        CHECK(sameBits(set.perUnit, perUnit));
         CHECK(sameBits(std::vector<btoclFloat4>(p.lateralDirs.begin(), p.lateralDirs.end()), dirs));
         inVectors += lanes.slotsInVectors();
         oneLane += l.slots.size() - lanes.slotsInVectors();

@@ -90,17 +90,28 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings) {
+void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings,
+                                  const LaneRows* setOnHost) {
     if (lanes.lanes != m_rt.stepProgramLanes())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout of " + std::to_string(lanes.lanes) +
                                   " lanes for a program of " + std::to_string(m_rt.stepProgramLanes()));
+    if (setOnHost && !m_rt.hostUnifiedMemory())
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: lane rows set up on the host for a device with memory "
+                                  "of its own");
     const size_t places = size_t(lanes.numBlocks) * size_t(lanes.lanes);
     m_numSlots = int(lanes.slots.size());
     m_frictionPerPoint = lanes.frictionPerPoint;
-    m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
-    m_applied.reserve(m_rt, places);
-    m_pushApplied.reserve(m_rt, places);
-    m_slotPerUnit.reserve(m_rt, size_t(m_numSlots) * 4 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
+    if (setOnHost) {  // the host's arrays themselves
+        m_wideRows.enqueueUpload(m_rt, setOnHost->rows);
+        m_applied.enqueueUpload(m_rt, setOnHost->applied);
+        m_pushApplied.enqueueUpload(m_rt, setOnHost->pushApplied);
+        m_slotPerUnit.enqueueUpload(m_rt, setOnHost->perUnit);
+    } else {
+        m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
+        m_applied.reserve(m_rt, places);
+        m_pushApplied.reserve(m_rt, places);
+        m_slotPerUnit.reserve(m_rt, size_t(m_numSlots) * 4 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
+    }
     m_placed.reserve(m_rt, 1);  // bound, unread
     m_rows.reserve(m_rt, 1);
     m_normalOfRow.reserve(m_rt, 1);
@@ -110,8 +121,9 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
     m_lanes.enqueueWrite(m_rt, lanes.laneInts);
     m_rowMap.enqueueWrite(m_rt, lanes.rowMap);
     if (m_numSlots == 0) return;
-    p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel
+    p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel, or the host's
     m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
+    if (setOnHost) return;
     setArgs(m_setupLanes, m_points.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_slots.buffer(), m_lanes.buffer(),
             m_wideRows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_slotPerUnit.buffer(),
             m_lateralDirs.buffer(), p.setupParams, m_numSlots, settings.flags);

@@ -40,8 +40,11 @@ public:
     // uploaded (it must live, unchanged, until the queue has finished).
     void arrange(StepProblem& p, const DeviceLayoutView& layout, const HostArrangement* onHost = nullptr);
     // For a step in lanes (StepPlan::inLanes): the lane layout uploaded (it must live, unchanged,
-    // until the queue has finished) and the rows set up in its blocks (kernels/setup.cl).
-    void arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings);
+    // until the queue has finished) and the rows set up in its blocks (kernels/setup.cl), or, with
+    // `setOnHost` (a device in the host's memory alone), the rows the host set up there, handed over
+    // in place (they too must live until the queue has finished; p.lateralDirs already written).
+    void arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings,
+                        const LaneRows* setOnHost = nullptr);
     // Enqueues the plan's passes, launched as its mode says.
     void iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
     // Reads back p.deltas, p.appliedImpulses (every row, gather order) and, with

@@ -64,9 +64,10 @@ struct btOpenCLSolverConfig {
     // to the bit), where every row of the step is a contact's normal or friction row in a fixed
     // order (no joints, rolling friction, SOLVER_RANDMIZE_ORDER, interleaved friction,
     // rotatePoints or residual threshold: those steps walk one group a work-item). -1: the solver
-    // decides, or env BT_OPENCL_SIMD_LANES ("auto", 1, 4, 8, 16); today one group a work-item: the
-    // lanes' faster solve is not yet repaid on the 2-core test machine (docs/performance.md,
-    // "Lanes"); 1: never; 4, 8 or 16: that W (4 measured best there, on PoCL's 256-bit code).
+    // decides, or env BT_OPENCL_SIMD_LANES ("auto", 1, 4, 8, 16): on PoCL where the CPU has AVX2,
+    // 8, the host setting the lanes' rows up, for each step whose lane layout fills its rows'
+    // places well (others walk one group a work-item); elsewhere one group a work-item
+    // (docs/performance.md, "Lanes set up by the host"); 1: never; 4, 8 or 16: that W, always.
     int simdLanes = -1;
     // A step our solver fails to run (a device error, buffers past the device's limits) is solved
     // by btSequentialImpulseConstraintSolver instead of throwing, and counted in the stats. Bad

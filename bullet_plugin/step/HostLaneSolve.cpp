@@ -1,6 +1,7 @@
 #include "HostLaneSolve.h"
 
 #include "HostParallel.h"
+#include "btOpenCLSolverError.h"
 #include "LaneRowSetup.h"
 #include "LaneVectors.h"
 #include "lane_setup.h"
@@ -8,6 +9,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
 
 namespace btocl {
 namespace {
@@ -21,7 +23,7 @@ struct LaneBodies {
     Lanes dynamic;
 };
 
-const float* perUnitOf(const std::vector<float>& perUnit, int slot, int side, int warmStart) {
+const float* perUnitOf(const HostArray<float>& perUnit, int slot, int side, int warmStart) {
     return perUnit.data() + ((2 * slot + side) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * W);
 }
 
@@ -104,34 +106,41 @@ BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& 
 }  // namespace
 
 // Slot after slot as setup.cl's setupLaneSlots sets them up (lane_setup.h): the same bits.
-void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
-    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
-    const size_t numSlots = m_layout.slots.size();
-    m_rows.resize(size_t(m_layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
-    m_applied.resize(size_t(m_layout.numBlocks) * W);
-    m_pushApplied.resize(size_t(m_layout.numBlocks) * W);
-    m_perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
-    m_inVectors.resize(numSlots);
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out) {
+    if (layout.lanes != W)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
+                                  ", not " + std::to_string(layout.lanes));
+    const size_t numSlots = layout.slots.size();
+    out.rows.resize(size_t(layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
+    out.applied.resize(size_t(layout.numBlocks) * W);
+    out.pushApplied.resize(size_t(layout.numBlocks) * W);
+    out.perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
+    out.inVectors.resize(numSlots);
     p.lateralDirs.resize(2 * p.points.size());
     parallelFor(numSlots, [&](size_t slot) {
-        const int* ints = m_layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
-        btoclSetupLanePerUnit(p.bodies.data(), p.deltas.data(), ints, int(slot), m_perUnit.data(), flags, W);
-        m_inVectors[slot] = setUpSlotRowsInLanes(p.points.data(), p.bodies.data(), m_layout.slots[slot], ints,
-                                                 m_rows.data(), m_applied.data(), m_pushApplied.data(),
-                                                 p.lateralDirs.data(), p.setupParams);
-        if (m_inVectors[slot]) return;
+        const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
+        btoclSetupLanePerUnit(p.bodies.data(), p.deltas.data(), ints, int(slot), out.perUnit.data(), flags, W);
+        out.inVectors[slot] = setUpSlotRowsInLanes(p.points.data(), p.bodies.data(), layout.slots[slot], ints,
+                                                   out.rows.data(), out.applied.data(), out.pushApplied.data(),
+                                                   p.lateralDirs.data(), p.setupParams);
+        if (out.inVectors[slot]) return;
         for (int lane = 0; lane < W; ++lane)
-            btoclSetupLaneRows(p.points.data(), p.bodies.data(), m_layout.slots[slot], ints, lane, m_rows.data(),
-                               m_applied.data(), m_pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
+            btoclSetupLaneRows(p.points.data(), p.bodies.data(), layout.slots[slot], ints, lane, out.rows.data(),
+                               out.applied.data(), out.pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
     }, W * kContactConstraintWeight);
+}
+
+void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
+    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
+    setUpLaneRows(p, m_layout, flags, m_rows);
 }
 
 namespace {
 
 // lane_solve.h's btoclSolveLaneSlot, for every slot of every bundle, set after set.
-BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const std::vector<float>& rows,
-                                      std::vector<float>& applied, std::vector<float>& pushApplied,
-                                      const std::vector<float>& perUnit, btoclBodyDelta* deltas, int pass) {
+BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<float>& rows,
+                                      HostArray<float>& applied, HostArray<float>& pushApplied,
+                                      const HostArray<float>& perUnit, btoclBodyDelta* deltas, int pass) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
     const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
@@ -181,7 +190,7 @@ BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const std::vecto
 }  // namespace
 
 size_t HostLaneSolve::slotsInVectors() const {
-    return size_t(std::count(m_inVectors.begin(), m_inVectors.end(), 1));
+    return size_t(std::count(m_rows.inVectors.begin(), m_rows.inVectors.end(), 1));
 }
 
 bool HostLaneSolve::available() { return lanesAvailable(); }
@@ -191,13 +200,14 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes) {
     int iterations = 0;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
-        solveLanePass(m_layout, m_rows, m_applied, m_pushApplied, m_perUnit, p.deltas.data(), step.pass);
+        solveLanePass(m_layout, m_rows.rows, m_rows.applied, m_rows.pushApplied, m_rows.perUnit, p.deltas.data(),
+                      step.pass);
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());
-    for (size_t r = 0; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_applied[size_t(rowMap[r])];
+    for (size_t r = 0; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
     return iterations;
 }
 

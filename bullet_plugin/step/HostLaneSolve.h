@@ -14,6 +14,11 @@
 
 namespace btocl {
 
+// Every contact row of `layout` (eight lanes: HostLaneSolve::kLanes) set up from p.points into
+// `out` and p.lateralDirs, as setup.cl's setupLaneSlots sets them up (the same bits), on the
+// host's threads. Called only where HostLaneSolve::available().
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out);
+
 class HostLaneSolve {
 public:
     // AVX2's width: the solve's functions are built for AVX2 alone and run where the CPU has it.
@@ -30,19 +35,13 @@ public:
 
     const LaneLayout& layout() const { return m_layout; }
     // What setUp wrote (the tests hold it to lane_setup.h's one-lane setup).
-    const std::vector<float>& rows() const { return m_rows; }
-    const std::vector<float>& applied() const { return m_applied; }
-    const std::vector<float>& pushApplied() const { return m_pushApplied; }
-    const std::vector<float>& perUnit() const { return m_perUnit; }
+    const LaneRows& rows() const { return m_rows; }
     // The slots whose rows setUp wrote eight points at a time (the others one lane at a time).
     size_t slotsInVectors() const;
 
 private:
     LaneLayout m_layout;
-    std::vector<float> m_rows;                    // blocks of kLanes rows (btoclWideRowFloat)
-    std::vector<float> m_applied, m_pushApplied;  // by wide row
-    std::vector<float> m_perUnit;                 // per slot and side, warm start's and others' (lane_solve.h)
-    std::vector<unsigned char> m_inVectors;       // per slot: its rows set up eight points at a time
+    LaneRows m_rows;
 };
 
 }  // namespace btocl

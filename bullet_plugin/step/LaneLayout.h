@@ -7,6 +7,7 @@
 #pragma once
 
 #include "BatchLayout.h"
+#include "HostArray.h"
 #include "btocl_shared.h"
 
 #include <array>
@@ -30,6 +31,16 @@ struct LaneLayout {
 
     double laneFill() const { return slots.empty() ? 0 : double(usedLanes) / (double(slots.size()) * lanes); }
     double rowFill() const { return numBlocks == 0 ? 0 : double(usedRowPlaces) / (double(numBlocks) * lanes); }
+};
+
+// What the setup of a lane layout's contact rows writes (setup.cl's setupLaneSlots, or the
+// host's setUpLaneRows): the rows' blocks, their impulses by wide row, the slots' per-unit scales
+// (lane_solve.h). Host arrays, so that a device in the host's memory reads them in place.
+struct LaneRows {
+    HostArray<float> rows;                  // blocks of W rows (btoclWideRowFloat)
+    HostArray<float> applied, pushApplied;  // by wide row
+    HostArray<float> perUnit;               // per slot and side, warm start's and others'
+    std::vector<unsigned char> inVectors;   // per slot: its rows set up eight points at a time
 };
 
 // Whether a step's rows can be solved in lanes: contact rows alone (no joint or rolling rows),
