@@ -244,8 +244,7 @@ void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const Solv
     }
     // On a CPU device in the host's memory, eight lanes' rows are set up by the host's vector
     // code on both cores, in place (the setup kernel runs a slot a work-item, scalar).
-    const bool rowsOnHost = m_laneLayout.lanes == HostLaneSolve::kLanes && HostLaneSolve::available() &&
-                            m_runtime.hostUnifiedMemory();
+    const bool rowsOnHost = hostSetsUpLaneRows(m_laneLayout.lanes, m_runtime);
     const auto t1 = std::chrono::steady_clock::now();
     if (rowsOnHost) setUpLaneRows(p, m_laneLayout, settings.flags, m_laneRows);
     const double msRowsOnHost = msSince(t1);

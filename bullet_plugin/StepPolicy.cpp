@@ -116,7 +116,11 @@ int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic) {
     // over in place (AVX2, a device in the host's memory: StepPipeline::solveInLanes); elsewhere
     // one group a work-item, the lanes' faster solve being given back in the setup kernel
     // (docs/performance.md, "Lanes").
-    return HostLaneSolve::available() && runtime.hostUnifiedMemory() ? HostLaneSolve::kLanes : 1;
+    return hostSetsUpLaneRows(HostLaneSolve::kLanes, runtime) ? HostLaneSolve::kLanes : 1;
+}
+
+bool hostSetsUpLaneRows(int lanes, const OclRuntime& runtime) {
+    return lanes == HostLaneSolve::kLanes && HostLaneSolve::available() && runtime.hostUnifiedMemory();
 }
 
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime) {

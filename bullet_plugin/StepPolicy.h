@@ -94,6 +94,9 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
 // has AVX2 (the host sets the lanes' rows up), else 1, and *automatic says so. Throws
 // btOpenCLSolverError for a width other than 1, 4, 8 or 16.
 int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic = nullptr);
+// Whether the host sets a lane layout of `lanes` up for the device (setUpLaneRows): eight lanes,
+// the CPU's AVX2, a device in the host's memory that reads the host's arrays in place.
+bool hostSetsUpLaneRows(int lanes, const OclRuntime& runtime);
 
 // Whether a step's rows can be solved in lanes (LaneLayout.h): contact rows alone, set up from
 // the points, in passes that pair (StepPolicy.cpp).
