@@ -18,7 +18,8 @@ namespace btocl {
 
 // Below this many items a loop runs on the calling thread (waking the pool costs some tens of
 // microseconds, and the items of a small loop take less). From about 16K items the loops' gain
-// outweighs that (docs/performance.md).
+// outweighs that (docs/performance.md); while the pool waits awake, from an eighth of it
+// (kAwakeThresholdDivisor).
 // Tests lower it to run small scenes in parallel, and raise it to run large ones serially
 // (atomic: solvers in other threads read it meanwhile).
 constexpr size_t kMinParallelItems = 16384;
@@ -65,6 +66,7 @@ constexpr size_t kAwakeThresholdDivisor = 8;
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
 // What an item weighs in a loop, against the lightest loops' items (weight 1):
+// (the counts below are with the pool asleep; an eighth of them where it waits awake)
 // a manifold counted or packed by the gather, whose lines lie scattered in memory (from about
 // 5,500 manifolds a step those loops run in parallel; docs/performance.md);
 constexpr size_t kManifoldWeight = 3;
@@ -74,12 +76,12 @@ constexpr size_t kRigidBodyWeight = 4;
 // parallel; below that, waking the pool cost more than it saved (docs/performance.md);
 constexpr size_t kJointWeight = 16;
 // a manifold's contact rows set up on the host (up to four points, three rows each): from about
-// 512 such constraints a step their loop runs in parallel, where the pool was woken ahead (a
-// split step on the host; docs/performance.md).
+// 512 such constraints a step their loop runs in parallel, from 64 where the pool was woken
+// ahead (a split step on the host; docs/performance.md).
 constexpr size_t kContactConstraintWeight = 32;
 
-// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on, counting each item as
-// `weight` (the constants above). The items are split in contiguous ranges, eight per thread,
+// Calls f(i) for every i in [0, n): in parallel from minParallelItems() on (an eighth of it while
+// the pool waits awake), counting each item as `weight` (the constants above). The items are split in contiguous ranges, eight per thread,
 // which the threads take as they come, so that a worker that wakes late still takes a share (on
 // a VM a worker can wake after the caller has finished a whole loop alone). An exception thrown
 // by f ends its range:
