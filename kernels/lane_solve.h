@@ -152,6 +152,14 @@ BTOCL_SOLVE_INLINE void btoclWarmStartLaneRows(__global const float* row, __glob
 }
 #undef BTOCL_ROW_FIELD
 
+// The rows stream from memory (each block is read once a pass) and the solve waited on them:
+// a block asks for the one this many blocks ahead, a cache line at a time (16 floats).
+#define BTOCL_ROWS_AHEAD 12
+#define BTOCL_PREFETCH_ROWS(row, blockFloats)                           \
+    if (BTOCL_PREFETCHES)                                               \
+        for (int line = 0; line < (blockFloats); line += 16)            \
+            BTOCL_PREFETCH((row) + BTOCL_ROWS_AHEAD * (blockFloats) + line)
+
 // One slot in one pass: its lanes' constraints as btoclSolveConstraint solves each in a pass that
 // pairs (btoclPassPairs), the warm start or a push pass: contact rows alone, in their order.
 // hasNext: the bundle has a slot after this one.
@@ -183,6 +191,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
         for (int k = 0; k < s.frictionBlocks; ++k) {
             const int block = s.frictionBlock + k;
             __global const float* row = lb->rows + block * blockFloats;
+            BTOCL_PREFETCH_ROWS(row, blockFloats);
             const btoclLanesF total = btoclLoadLanes(b->applied + (s.normalBlock + k / perPoint) * BTOCL_LANES);
             const btoclLanesF limit = btoclLoadLanes(row + 19 * BTOCL_LANES) * total;  // friction coefficient
             const btoclLanesI active = (numPoints * perPoint > k) & (total > 0.0f);
@@ -192,6 +201,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
         for (int k = 0; k < s.normalBlocks; ++k) {
             const int block = s.normalBlock + k;
             __global const float* row = lb->rows + block * blockFloats;
+            BTOCL_PREFETCH_ROWS(row, blockFloats);
             btoclLanesI active = numPoints > k;
             if (pass == BTOCL_PASS_WARMSTART) {
                 btoclWarmStartLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, active);
