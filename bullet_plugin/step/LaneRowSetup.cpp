@@ -87,10 +87,13 @@ struct RowLanes {
 BTOCL_LANES_INLINE void rowLanesOf(RowLanes& r, Vec3 n1, Vec3 n2, Lanes rhs, Vec3 rp1, Lanes w1, Vec3 rp2, Lanes jac,
                                    Vec3 angA, Lanes wA, Vec3 angB, Lanes wB, Lanes impulse) {
     const Vec3 n = select(-n2, n1, dot(n1, n1) != 0.0f);
-    const Lanes fields[BTOCL_SOLVE_ROW_FLOATS] = {n.x,    n.y,    n.z,    rhs,    rp1.x,  rp1.y, rp1.z,
-                                                  w1,     rp2.x,  rp2.y,  rp2.z,  jac,    angA.x, angA.y,
-                                                  angA.z, wA,     angB.x, angB.y, angB.z, wB};
-    for (int f = 0; f < BTOCL_SOLVE_ROW_FLOATS; ++f) r.f[f] = fields[f];
+    // Field by field: from a list, GCC copied the row into place with `rep movsq`.
+    r.f[0] = n.x, r.f[1] = n.y, r.f[2] = n.z, r.f[3] = rhs;
+    r.f[4] = rp1.x, r.f[5] = rp1.y, r.f[6] = rp1.z, r.f[7] = w1;
+    r.f[8] = rp2.x, r.f[9] = rp2.y, r.f[10] = rp2.z, r.f[11] = jac;
+    r.f[12] = angA.x, r.f[13] = angA.y, r.f[14] = angA.z, r.f[15] = wA;
+    r.f[16] = angB.x, r.f[17] = angB.y, r.f[18] = angB.z, r.f[19] = wB;
+    static_assert(BTOCL_SOLVE_ROW_FLOATS == 20, "a row's fields, each set above");
     r.impulse = impulse;
 }
 
