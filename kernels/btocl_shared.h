@@ -343,10 +343,10 @@ typedef struct {
 // A slot's lanes, as W ints each (slot s's at [s * BTOCL_LANE_INTS * W, ...)): their constraints'
 // bodies, their points (normal rows; 0: an unused lane, on the fixed body) and the first of them.
 enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_FIRST_POINT, BTOCL_LANE_INTS };
-// What a unit impulse does to a lane's body (btoclSolveBody's per-unit scales), kept per slot and
-// side, the warm start's (the factors always applied) and the other passes': linearPerUnit xyz,
-// 1 for a dynamic body (the only ones stored), angularPerUnit xyz; W floats each.
-#define BTOCL_LANE_PER_UNIT_FLOATS 7
+// What a unit impulse does to a body (btoclSolveBody's per-unit scales), kept per body for the
+// lanes: the warm start's (the factors always applied) linearPerUnit xyz, 1 for a dynamic body
+// (the only ones stored), angularPerUnit xyz, 0; then the other passes' eight, the same way.
+#define BTOCL_BODY_PER_UNIT_FLOATS 16
 #define BTOCL_SOLVE_ROW_FLOATS 20
 // Where float `field` (btoclSolveRow's floats in order, 0 to 19) of wide row `index` lies.
 BTOCL_INLINE int btoclWideRowFloat(int index, int field, int lanes) {

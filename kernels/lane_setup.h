@@ -1,9 +1,9 @@
 // A slot of a step in lanes set up (docs/architecture.md, "Lanes"): each lane's points' rows from
 // the row code of row_setup.h, written to the slot's blocks lane by lane (btoclWideRowFloat's
-// layout), and the per-unit scales of each side's bodies, the warm start's and the other passes'
-// (BTOCL_LANE_PER_UNIT_FLOATS), kept per slot. Written once for the device (kernels/setup.cl,
-// setupLaneSlots: one work-item a slot) and the host (bullet_plugin/step/HostLaneSolve.cpp), so
-// both give the one-lane setup's bits.
+// layout); and each body's per-unit scales, the warm start's and the other passes'
+// (BTOCL_BODY_PER_UNIT_FLOATS). Written once for the device (kernels/setup.cl, setupLaneSlots: one
+// work-item a slot) and the host (bullet_plugin/step/HostLaneSolve.cpp), so both give the
+// one-lane setup's bits.
 #ifndef BTOCL_LANE_SETUP_H
 #define BTOCL_LANE_SETUP_H
 
@@ -29,28 +29,24 @@ BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float
     pushApplied[block * lanes + lane] = 0.0f;
 }
 
-// The per-unit scales of slot `slot`'s bodies (its lanes' ints `ints`, in a layout `lanes` wide):
-// each side's, the warm start's and the other passes', into `slotPerUnit` (every slot's).
-BTOCL_INLINE void btoclSetupLanePerUnit(BTOCL_GLOBAL const btoclBody* bodies, BTOCL_GLOBAL const btoclBodyDelta* deltas,
-                                        BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* slotPerUnit,
-                                        int flags, int lanes) {
-    for (int lane = 0; lane < lanes; ++lane) {
-        for (int side = 0; side < 2; ++side) {
-            const int body = ints[(side == 0 ? BTOCL_LANE_BODY_A : BTOCL_LANE_BODY_B) * lanes + lane];
-            for (int which = 0; which < 2; ++which) {  // the warm start applies the factors always
-                const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
-                const btoclSolveBody u = btoclLoadSolveBody(bodies + body, deltas + body, 0, applyFactors);
-                BTOCL_GLOBAL float* out =
-                    slotPerUnit + ((2 * slot + side) * 2 + which) * (BTOCL_LANE_PER_UNIT_FLOATS * lanes) + lane;
-                const float values[BTOCL_LANE_PER_UNIT_FLOATS] = {u.linearPerUnit.x,  u.linearPerUnit.y,
-                                                                  u.linearPerUnit.z,  u.dynamic,
-                                                                  u.angularPerUnit.x, u.angularPerUnit.y,
-                                                                  u.angularPerUnit.z};
-                for (int f = 0; f < BTOCL_LANE_PER_UNIT_FLOATS; ++f) out[f * lanes] = values[f];
-            }
-        }
+#ifndef __OPENCL_VERSION__
+// Body `body`'s per-unit scales, the warm start's and the other passes', into its
+// BTOCL_BODY_PER_UNIT_FLOATS floats of `bodyPerUnit` (every body's): set by the host for every
+// device, a few floats a body.
+BTOCL_INLINE void btoclSetupBodyPerUnit(const btoclBody* bodies, const btoclBodyDelta* deltas, int body,
+                                        float* bodyPerUnit, int flags) {
+    for (int which = 0; which < 2; ++which) {  // the warm start applies the factors always
+        const int applyFactors = which == 0 || (flags & BTOCL_FLAG_APPLY_FACTORS) != 0;
+        const btoclSolveBody u = btoclLoadSolveBody(bodies + body, deltas + body, 0, applyFactors);
+        float* out = bodyPerUnit + body * BTOCL_BODY_PER_UNIT_FLOATS + which * (BTOCL_BODY_PER_UNIT_FLOATS / 2);
+        const float values[BTOCL_BODY_PER_UNIT_FLOATS / 2] = {u.linearPerUnit.x,  u.linearPerUnit.y,
+                                                              u.linearPerUnit.z,  u.dynamic,
+                                                              u.angularPerUnit.x, u.angularPerUnit.y,
+                                                              u.angularPerUnit.z, 0.0f};
+        for (int f = 0; f < BTOCL_BODY_PER_UNIT_FLOATS / 2; ++f) out[f] = values[f];
     }
 }
+#endif
 
 // The rows of lane `lane` of slot s (its lanes' ints `ints`) into `wide`, `applied` and
 // `pushApplied`, and its points' friction directions into lateralDirs (two a point, as
@@ -94,15 +90,11 @@ BTOCL_INLINE void btoclSetupLaneRows(BTOCL_GLOBAL const btoclContactPoint* point
     }
 }
 
-// Slot `slot` (s, its lanes' ints `ints`) of a layout `lanes` wide: its per-unit scales and every
-// lane's rows.
+// Slot s (its lanes' ints `ints`) of a layout `lanes` wide: every lane's rows.
 BTOCL_INLINE void btoclSetupLaneSlot(BTOCL_GLOBAL const btoclContactPoint* points, BTOCL_GLOBAL const btoclBody* bodies,
-                                     BTOCL_GLOBAL const btoclBodyDelta* deltas, btoclLaneSlot s,
-                                     BTOCL_GLOBAL const int* ints, int slot, BTOCL_GLOBAL float* wide,
+                                     btoclLaneSlot s, BTOCL_GLOBAL const int* ints, BTOCL_GLOBAL float* wide,
                                      BTOCL_GLOBAL float* applied, BTOCL_GLOBAL float* pushApplied,
-                                     BTOCL_GLOBAL float* slotPerUnit, BTOCL_GLOBAL btoclFloat4* lateralDirs,
-                                     const btoclSetupParams* prm, int flags, int lanes) {
-    btoclSetupLanePerUnit(bodies, deltas, ints, slot, slotPerUnit, flags, lanes);
+                                     BTOCL_GLOBAL btoclFloat4* lateralDirs, const btoclSetupParams* prm, int lanes) {
     for (int lane = 0; lane < lanes; ++lane)
         btoclSetupLaneRows(points, bodies, s, ints, lane, wide, applied, pushApplied, lateralDirs, prm, lanes);
 }

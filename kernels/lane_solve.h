@@ -16,7 +16,7 @@
 typedef struct {
     __global const btoclLaneSlot* slots;
     __global const int* lanes;             // BTOCL_LANE_INTS * W ints a slot
-    __global const float* slotPerUnit;  // per slot and side, the warm start's and the others' (setupLaneSlots)
+    __global const float* bodyPerUnit;  // per body, BTOCL_BODY_PER_UNIT_FLOATS (set by the host)
     __global const float* rows;
     int frictionPerPoint;
 } btoclLaneBuffers;
@@ -48,7 +48,7 @@ typedef BTOCL_CAT(int, BTOCL_LANES) btoclLanesI;
 #error "BTOCL_LANES must be 4, 8 or 16"
 #endif
 
-// A side's bodies of a slot's lanes: their per-unit scales (BTOCL_LANE_PER_UNIT_FLOATS) and the velocities the
+// A side's bodies of a slot's lanes: their per-unit scales (BTOCL_BODY_PER_UNIT_FLOATS) and the velocities the
 // rows change (linear and angular, or push and turn), one vector per float.
 typedef struct {
     btoclLanesF lpuX, lpuY, lpuZ, apuX, apuY, apuZ;  // linearPerUnit, angularPerUnit
@@ -60,31 +60,36 @@ typedef struct {
 #define BTOCL_LOAD_RECORD(i) const float8 record##i = vload8(0, base + at.s##i);
 #define BTOCL_RECORD_FLOAT(i, f) record##i.s##f
 
-// A side's bodies of a slot's lanes: the velocities from the deltas, W records turned into
-// vectors; the per-unit scales from the slot's own copy (setupLaneSlots), one vector load each.
+// A side's bodies of a slot's lanes: the velocities from the deltas and the per-unit scales from
+// the bodies' own (bodyPerUnit), W records of each turned into vectors.
 BTOCL_SOLVE_INLINE btoclLaneBodies btoclLoadLaneBodies(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
-                                                       int slot, int sideB, btoclLanesI body, int push,
-                                                       int warmStart) {
+                                                       btoclLanesI body, int push, int warmStart) {
     btoclLaneBodies l;
-    // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
-    __global const float* base = (__global const float*)b->deltas;
-    const btoclLanesI at = body * 16 + (push ? 8 : 0);
-    BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
-    l.linX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
-    l.linY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
-    l.linZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
-    l.angX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
-    l.angY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
-    l.angZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
-    __global const float* u =
-        lb->slotPerUnit + ((2 * slot + sideB) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * BTOCL_LANES);
-    l.lpuX = btoclLoadLanes(u);
-    l.lpuY = btoclLoadLanes(u + BTOCL_LANES);
-    l.lpuZ = btoclLoadLanes(u + 2 * BTOCL_LANES);
-    l.dynamic = btoclLoadLanes(u + 3 * BTOCL_LANES);
-    l.apuX = btoclLoadLanes(u + 4 * BTOCL_LANES);
-    l.apuY = btoclLoadLanes(u + 5 * BTOCL_LANES);
-    l.apuZ = btoclLoadLanes(u + 6 * BTOCL_LANES);
+    {
+        // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
+        __global const float* base = (__global const float*)b->deltas;
+        const btoclLanesI at = body * 16 + (push ? 8 : 0);
+        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
+        l.linX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
+        l.linY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
+        l.linZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
+        l.angX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
+        l.angY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
+        l.angZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
+    }
+    {
+        // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
+        __global const float* base = lb->bodyPerUnit;
+        const btoclLanesI at = body * BTOCL_BODY_PER_UNIT_FLOATS + (warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2);
+        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
+        l.lpuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
+        l.lpuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
+        l.lpuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
+        l.dynamic = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 3);
+        l.apuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
+        l.apuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
+        l.apuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
+    }
     return l;
 }
 
@@ -177,14 +182,16 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
         __global const int* next = lanes + BTOCL_LANE_INTS * BTOCL_LANES;
         const btoclLanesI nextA = BTOCL_CAT(vload, BTOCL_LANES)(0, next + BTOCL_LANE_BODY_A * BTOCL_LANES);
         const btoclLanesI nextB = BTOCL_CAT(vload, BTOCL_LANES)(0, next + BTOCL_LANE_BODY_B * BTOCL_LANES);
-#define BTOCL_PREFETCH_LANE(i)                                 \
-    BTOCL_PREFETCH(b->deltas + nextA.s##i);                    \
-    BTOCL_PREFETCH(b->deltas + nextB.s##i);
+#define BTOCL_PREFETCH_LANE(i)                                                    \
+    BTOCL_PREFETCH(b->deltas + nextA.s##i);                                       \
+    BTOCL_PREFETCH(b->deltas + nextB.s##i);                                       \
+    BTOCL_PREFETCH(lb->bodyPerUnit + nextA.s##i * BTOCL_BODY_PER_UNIT_FLOATS);    \
+    BTOCL_PREFETCH(lb->bodyPerUnit + nextB.s##i * BTOCL_BODY_PER_UNIT_FLOATS);
         BTOCL_EACH_LANE(BTOCL_PREFETCH_LANE)
 #undef BTOCL_PREFETCH_LANE
     }
-    btoclLaneBodies A = btoclLoadLaneBodies(b, lb, slot, 0, bodyA, push, pass == BTOCL_PASS_WARMSTART);
-    btoclLaneBodies B = btoclLoadLaneBodies(b, lb, slot, 1, bodyB, push, pass == BTOCL_PASS_WARMSTART);
+    btoclLaneBodies A = btoclLoadLaneBodies(b, lb, bodyA, push, pass == BTOCL_PASS_WARMSTART);
+    btoclLaneBodies B = btoclLoadLaneBodies(b, lb, bodyB, push, pass == BTOCL_PASS_WARMSTART);
     const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * BTOCL_LANES;
     if (pass == BTOCL_PASS_FRICTION) {
         const int perPoint = lb->frictionPerPoint;

@@ -76,10 +76,9 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
 // the slot's blocks lane by lane, so that a block's cache lines are written whole by one
 // work-item (the rows written from point order touched 20 lines a row).
 __kernel void setupLaneSlots(__global const btoclContactPoint* points, __global const btoclBody* bodies,
-                             __global const btoclBodyDelta* deltas, __global const btoclLaneSlot* slots,
-                             __global const int* laneInts, __global float* wide, __global float* applied,
-                             __global float* pushApplied, __global float* slotPerUnit, __global float4* lateralDirs,
-                             btoclSetupParams prm, int numSlots, int flags) {
+                             __global const btoclLaneSlot* slots, __global const int* laneInts, __global float* wide,
+                             __global float* applied, __global float* pushApplied, __global float4* lateralDirs,
+                             btoclSetupParams prm, int numSlots) {
     const int slot = get_global_id(0);
     if (slot >= numSlots) return;
     __global const int* ints = laneInts + slot * (BTOCL_LANE_INTS * BTOCL_LANES);
@@ -100,7 +99,6 @@ __kernel void setupLaneSlots(__global const btoclContactPoint* points, __global 
                 for (int line = 0; line < (int)sizeof(btoclBody); line += 64) BTOCL_PREFETCH(b + line);
             }
     }
-    btoclSetupLaneSlot(points, bodies, deltas, slots[slot], ints, slot, wide, applied, pushApplied, slotPerUnit,
-                       lateralDirs, &prm, flags, BTOCL_LANES);
+    btoclSetupLaneSlot(points, bodies, slots[slot], ints, wide, applied, pushApplied, lateralDirs, &prm, BTOCL_LANES);
 }
 #endif

@@ -336,9 +336,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
     float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,
-    __global const float* slotPerUnit, __global const float* wideRows, int frictionPerPoint) {
+    __global const float* bodyPerUnit, __global const float* wideRows, int frictionPerPoint) {
     const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
-    const btoclLaneBuffers lb = {slots, lanes, slotPerUnit, wideRows, frictionPerPoint};
+    const btoclLaneBuffers lb = {slots, lanes, bodyPerUnit, wideRows, frictionPerPoint};
     claimedStep(&b, &lb, BTOCL_LANES, groups, batchEnd, control, setGroupStart, progress, numSlots, flags, threshold,
                 schedule);
 }

@@ -90,7 +90,7 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const
     m_rt.launch(m_setupRows, p.points.size(), kLanes, "launching setupContactRows");
 }
 
-void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings,
+void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const HostArray<float>& bodyPerUnit,
                                   const LaneRows* setOnHost) {
     if (lanes.lanes != m_rt.stepProgramLanes())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout of " + std::to_string(lanes.lanes) +
@@ -101,16 +101,17 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
     const size_t places = size_t(lanes.numBlocks) * size_t(lanes.lanes);
     m_numSlots = int(lanes.slots.size());
     m_frictionPerPoint = lanes.frictionPerPoint;
+    if (bodyPerUnit.size() != p.bodies.size() * BTOCL_BODY_PER_UNIT_FLOATS)
+        throw btOpenCLSolverError("btOpenCLConstraintSolver: lanes' per-unit scales not those of the step's bodies");
+    m_bodyPerUnit.enqueueUpload(m_rt, bodyPerUnit);
     if (setOnHost) {  // the host's arrays themselves
         m_wideRows.enqueueUpload(m_rt, setOnHost->rows);
         m_applied.enqueueUpload(m_rt, setOnHost->applied);
         m_pushApplied.enqueueUpload(m_rt, setOnHost->pushApplied);
-        m_slotPerUnit.enqueueUpload(m_rt, setOnHost->perUnit);
     } else {
         m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
         m_applied.reserve(m_rt, places);
         m_pushApplied.reserve(m_rt, places);
-        m_slotPerUnit.reserve(m_rt, size_t(m_numSlots) * 4 * BTOCL_LANE_PER_UNIT_FLOATS * size_t(lanes.lanes));
     }
     m_placed.reserve(m_rt, 1);  // bound, unread
     m_rows.reserve(m_rt, 1);
@@ -124,9 +125,8 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
     p.lateralDirs.resize(2 * p.points.size());  // written by the setup kernel, or the host's
     m_lateralDirs.prepareDownload(m_rt, p.lateralDirs);
     if (setOnHost) return;
-    setArgs(m_setupLanes, m_points.buffer(), m_bodies.buffer(), m_deltas.buffer(), m_slots.buffer(), m_lanes.buffer(),
-            m_wideRows.buffer(), m_applied.buffer(), m_pushApplied.buffer(), m_slotPerUnit.buffer(),
-            m_lateralDirs.buffer(), p.setupParams, m_numSlots, settings.flags);
+    setArgs(m_setupLanes, m_points.buffer(), m_bodies.buffer(), m_slots.buffer(), m_lanes.buffer(), m_wideRows.buffer(),
+            m_applied.buffer(), m_pushApplied.buffer(), m_lateralDirs.buffer(), p.setupParams, m_numSlots);
     // Few work-items a group: a slot is many points' work.
     m_rt.launch(m_setupLanes, size_t(m_numSlots), kSlotsPerGroup, "launching setupLaneSlots");
 }
@@ -207,7 +207,7 @@ void DeviceSolver::launchInLanes(const StepPlan& plan, const SolveSettings& s) {
     bundles.groups = bundles.batchEnd = &m_bundles.buffer();
     bindSolveBuffers(m_inLanes, bundles);
     setArgsFrom(m_inLanes, kSolveBufferArgs, m_setBundleStart.buffer(), m_progress.buffer(), m_numSlots, s.flags,
-                s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_slotPerUnit.buffer(),
+                s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_bodyPerUnit.buffer(),
                 m_wideRows.buffer(), m_frictionPerPoint);
     m_rt.launch(m_inLanes, size_t(workGroups), 1, "launching solveStepInLanes");
 }
@@ -257,7 +257,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
         bindScratch(m_inLanes, z);
         setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, 1);
         warm.launch(m_inLanes, m_rt.computeUnits(), 1);
-        setArgs(m_setupLanes, z, z, z, z, z, z, z, z, z, z, noPoints, none, none);
+        setArgs(m_setupLanes, z, z, z, z, z, z, z, z, noPoints, none);
         warm.launch(m_setupLanes, grid, kSlotsPerGroup);
     }
     if (!lanes.localBatches) return;

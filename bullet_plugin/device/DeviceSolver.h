@@ -39,11 +39,12 @@ public:
     // (kernels/arrange.cl, kernels/setup.cl). With `onHost`, the places are that arrangement's,
     // uploaded (it must live, unchanged, until the queue has finished).
     void arrange(StepProblem& p, const DeviceLayoutView& layout, const HostArrangement* onHost = nullptr);
-    // For a step in lanes (StepPlan::inLanes): the lane layout uploaded (it must live, unchanged,
-    // until the queue has finished) and the rows set up in its blocks (kernels/setup.cl), or, with
-    // `setOnHost` (a device in the host's memory alone), the rows the host set up there, handed over
-    // in place (they too must live until the queue has finished; p.lateralDirs already written).
-    void arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const SolveSettings& settings,
+    // For a step in lanes (StepPlan::inLanes): the lane layout and the bodies' per-unit scales
+    // (setUpBodyPerUnit) uploaded (both must live, unchanged, until the queue has finished) and
+    // the rows set up in its blocks (kernels/setup.cl), or, with `setOnHost` (a device in the
+    // host's memory alone), the rows the host set up there, handed over in place (they too must
+    // live until the queue has finished; p.lateralDirs already written).
+    void arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const HostArray<float>& bodyPerUnit,
                         const LaneRows* setOnHost = nullptr);
     // Enqueues the plan's passes, launched as its mode says.
     void iterate(const StepProblem& p, const StepPlan& plan, const DeviceLayoutView& layout, const SolveSettings& settings);
@@ -92,7 +93,7 @@ private:
     DeviceBuffer<int> m_setBundleStart;
     DeviceBuffer<btoclLaneSlot> m_slots;
     DeviceBuffer<int> m_lanes;
-    DeviceBuffer<float> m_slotPerUnit;
+    DeviceBuffer<float> m_bodyPerUnit;
     DeviceBuffer<float> m_wideRows;
     int m_numSlots = 0, m_frictionPerPoint = 1;
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};  // the control block as read back

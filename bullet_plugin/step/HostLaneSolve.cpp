@@ -23,30 +23,22 @@ struct LaneBodies {
     Lanes dynamic;
 };
 
-const float* perUnitOf(const HostArray<float>& perUnit, int slot, int side, int warmStart) {
-    return perUnit.data() + ((2 * slot + side) * 2 + (warmStart ? 0 : 1)) * (BTOCL_LANE_PER_UNIT_FLOATS * W);
-}
-
 BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const float* perUnit, const int* body,
-                                         int push) {
+                                         int push, int warmStart) {
     LaneBodies l;
-    const int offset = push ? 8 : 0;
-    for (int i = 0; i < W; ++i) {
-        const float* d = reinterpret_cast<const float*>(deltas + body[i]) + offset;
-        l.linX[i] = d[0];
-        l.linY[i] = d[1];
-        l.linZ[i] = d[2];
-        l.angX[i] = d[4];
-        l.angY[i] = d[5];
-        l.angZ[i] = d[6];
-    }
-    l.lpuX = load(perUnit);
-    l.lpuY = load(perUnit + W);
-    l.lpuZ = load(perUnit + 2 * W);
-    l.dynamic = load(perUnit + 3 * W);
-    l.apuX = load(perUnit + 4 * W);
-    l.apuY = load(perUnit + 5 * W);
-    l.apuZ = load(perUnit + 6 * W);
+    const float* records[W];
+    Lanes v[8];
+    // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
+    for (int i = 0; i < W; ++i) records[i] = reinterpret_cast<const float*>(deltas + body[i]) + (push ? 8 : 0);
+    transpose8(records, v);
+    l.linX = v[0], l.linY = v[1], l.linZ = v[2];
+    l.angX = v[4], l.angY = v[5], l.angZ = v[6];
+    // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
+    for (int i = 0; i < W; ++i)
+        records[i] = perUnit + size_t(body[i]) * BTOCL_BODY_PER_UNIT_FLOATS + (warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2);
+    transpose8(records, v);
+    l.lpuX = v[0], l.lpuY = v[1], l.lpuZ = v[2], l.dynamic = v[3];
+    l.apuX = v[4], l.apuY = v[5], l.apuZ = v[6];
     return l;
 }
 
@@ -106,6 +98,13 @@ BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& 
 }  // namespace
 
 // Slot after slot as setup.cl's setupLaneSlots sets them up (lane_setup.h): the same bits.
+void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
+    out.resize(p.bodies.size() * BTOCL_BODY_PER_UNIT_FLOATS);
+    parallelFor(p.bodies.size(), [&](size_t body) {
+        btoclSetupBodyPerUnit(p.bodies.data(), p.deltas.data(), int(body), out.data(), flags);
+    }, kRigidBodyWeight);
+}
+
 void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out) {
     if (layout.lanes != W)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
@@ -114,12 +113,10 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows
     out.rows.resize(size_t(layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
     out.applied.resize(size_t(layout.numBlocks) * W);
     out.pushApplied.resize(size_t(layout.numBlocks) * W);
-    out.perUnit.resize(numSlots * 4 * BTOCL_LANE_PER_UNIT_FLOATS * W);
     out.inVectors.resize(numSlots);
     p.lateralDirs.resize(2 * p.points.size());
     parallelFor(numSlots, [&](size_t slot) {
         const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
-        btoclSetupLanePerUnit(p.bodies.data(), p.deltas.data(), ints, int(slot), out.perUnit.data(), flags, W);
         out.inVectors[slot] = setUpSlotRowsInLanes(p.points.data(), p.bodies.data(), layout.slots[slot], ints,
                                                    out.rows.data(), out.applied.data(), out.pushApplied.data(),
                                                    p.lateralDirs.data(), p.setupParams);
@@ -128,6 +125,7 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows
             btoclSetupLaneRows(p.points.data(), p.bodies.data(), layout.slots[slot], ints, lane, out.rows.data(),
                                out.applied.data(), out.pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
     }, W * kContactConstraintWeight);
+    setUpBodyPerUnit(p, flags, out.perUnit);
 }
 
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
@@ -153,8 +151,8 @@ BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<
                 const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
                 const int* bodyB = ints + BTOCL_LANE_BODY_B * W;
                 const LaneMask numPoints = loadInts(ints + BTOCL_LANE_POINTS * W);
-                LaneBodies A = loadBodies(deltas, perUnitOf(perUnit, slot, 0, warmStart), bodyA, push);
-                LaneBodies B = loadBodies(deltas, perUnitOf(perUnit, slot, 1, warmStart), bodyB, push);
+                LaneBodies A = loadBodies(deltas, perUnit.data(), bodyA, push, warmStart);
+                LaneBodies B = loadBodies(deltas, perUnit.data(), bodyB, push, warmStart);
                 if (pass == BTOCL_PASS_FRICTION) {
                     for (int k = 0; k < s.frictionBlocks; ++k) {
                         const int block = s.frictionBlock + k;

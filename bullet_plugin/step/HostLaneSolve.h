@@ -14,9 +14,13 @@
 
 namespace btocl {
 
+// Every body's per-unit scales for the lanes (lane_setup.h's btoclSetupBodyPerUnit) into `out`,
+// on the host's threads: what a lanes solve reads beside its rows, on any device.
+void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out);
+
 // Every contact row of `layout` (eight lanes: HostLaneSolve::kLanes) set up from p.points into
-// `out` and p.lateralDirs, as setup.cl's setupLaneSlots sets them up (the same bits), on the
-// host's threads. Called only where HostLaneSolve::available().
+// `out` and p.lateralDirs, as setup.cl's setupLaneSlots sets them up (the same bits), and the
+// bodies' per-unit scales, on the host's threads. Called only where HostLaneSolve::available().
 void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out);
 
 class HostLaneSolve {

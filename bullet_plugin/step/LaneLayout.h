@@ -34,12 +34,13 @@ struct LaneLayout {
 };
 
 // What the setup of a lane layout's contact rows writes (setup.cl's setupLaneSlots, or the
-// host's setUpLaneRows): the rows' blocks, their impulses by wide row, the slots' per-unit scales
-// (lane_solve.h). Host arrays, so that a device in the host's memory reads them in place.
+// host's setUpLaneRows): the rows' blocks, their impulses by wide row; and the bodies' per-unit
+// scales (lane_solve.h), set by the host for either. Host arrays, so that a device in the host's
+// memory reads them in place.
 struct LaneRows {
     HostArray<float> rows;                  // blocks of W rows (btoclWideRowFloat)
     HostArray<float> applied, pushApplied;  // by wide row
-    HostArray<float> perUnit;               // per slot and side, warm start's and others'
+    HostArray<float> perUnit;               // per body, BTOCL_BODY_PER_UNIT_FLOATS (setUpBodyPerUnit)
     std::vector<unsigned char> inVectors;   // per slot: its rows set up eight points at a time
 };
 

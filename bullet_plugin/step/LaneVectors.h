@@ -48,6 +48,27 @@ BTOCL_LANES_INLINE void store(Lanes v, float* p) { std::memcpy(p, &v, sizeof v);
 // OpenCL's select(a, b, m): b where m is set, else a.
 BTOCL_LANES_INLINE Lanes select(Lanes a, Lanes b, LaneMask m) { return m ? b : a; }
 BTOCL_LANES_INLINE Lanes splat(float x) { return Lanes{} + x; }
+// Eight records of eight floats, the i-th at p[i], as eight vectors: out[f] holds float f of each
+// (lane i of record i). Shuffles only, so every float keeps its bits.
+BTOCL_LANES_INLINE void transpose8(const float* const* p, Lanes* out) {
+    __m256 r[8];
+    for (int i = 0; i < 8; ++i) r[i] = _mm256_loadu_ps(p[i]);
+    __m256 t[8], u[8];
+    for (int i = 0; i < 8; i += 2) {
+        t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
+        t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+    }
+    for (int i = 0; i < 8; i += 4) {
+        u[i] = _mm256_shuffle_ps(t[i], t[i + 2], 0x44);
+        u[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], 0xee);
+        u[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0x44);
+        u[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0xee);
+    }
+    for (int f = 0; f < 4; ++f) {
+        out[f] = (Lanes)_mm256_permute2f128_ps(u[f], u[f + 4], 0x20);
+        out[f + 4] = (Lanes)_mm256_permute2f128_ps(u[f], u[f + 4], 0x31);
+    }
+}
 
 }  // namespace
 }  // namespace btocl
