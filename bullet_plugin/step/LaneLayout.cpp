@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <functional>
+#include <utility>
 
 namespace btocl {
 namespace {
 
 // Lanes are dealt runs of about this many groups where a set has enough: runs of several groups
-// even out the lanes' lengths (a slot's lanes all wait for its longest).
+// even out the lanes' lengths (a slot's lanes all wait for its longest), and fewer bundles
+// leave fewer lanes empty.
 constexpr int kGroupsPerLane = 3;
 constexpr int kPrefetchAhead = 4;
 
@@ -44,9 +47,13 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     out.usedLanes = 0;
     out.usedRowPlaces = 0;
     int normalBlocks = 0, frictionBlocks = 0;  // friction blocks counted from the friction region's start
-    std::vector<int> runStart;                 // per lane of the set: its first group; then the set's end
+    // Per run (a lane of a bundle) of the set: its groups, in the split's order, at
+    // runGroups[runFirst[r], runFirst[r + 1]).
+    std::vector<int> order, runFirst, runGroups, runOf;
+    std::vector<long long> runLength;
+    std::vector<std::pair<long long, int>> shortest;
     struct Cursor {
-        int group, end, position;  // the lane's group, its run's end, the position in the group
+        int at, end, position;  // the lane's place in runGroups, its run's end there, the position in the group
     };
     std::vector<Cursor> cursors(W);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
@@ -55,30 +62,44 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         const int groupEnd = split.setGroupStart[std::size_t(set) + 1];
         const int numGroups = groupEnd - firstGroup;
         if (numGroups == 0) continue;
-        long long total = 0;
-        for (int g = firstGroup; g < groupEnd; ++g) total += split.groups[std::size_t(g)].count;
         const int mostBundles = (numGroups + lanes - 1) / lanes;  // one group a lane at least
         const int numBundles = std::max(1, std::min(mostBundles, std::max(minBundlesPerSet, numGroups / (kGroupsPerLane * lanes))));
         const int numRuns = numBundles * lanes;
-        // Group g goes to the run its middle constraint falls in: runs of consecutive groups, of
-        // about total / numRuns constraints each.
-        runStart.assign(std::size_t(numRuns) + 1, groupEnd);
-        long long before = 0;
-        int run = 0;
-        for (int g = firstGroup; g < groupEnd; ++g) {
-            const int count = split.groups[std::size_t(g)].count;
-            const int at = int(std::min<long long>(numRuns - 1, (2 * before + count) * numRuns / (2 * std::max(1LL, total))));
-            while (run <= at) runStart[std::size_t(run++)] = g;
-            before += count;
+        // The groups of a set share no dynamic body, so any lane may take any of them: the
+        // largest first, each to the run with the fewest constraints so far (the lowest run
+        // where they tie), so that the lanes of a bundle and the bundles end together.
+        order.resize(std::size_t(numGroups));
+        for (int k = 0; k < numGroups; ++k) order[std::size_t(k)] = firstGroup + k;
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+            return split.groups[std::size_t(a)].count > split.groups[std::size_t(b)].count;
+        });
+        runLength.assign(std::size_t(numRuns), 0);
+        runOf.assign(std::size_t(numGroups), 0);
+        shortest.clear();  // a min-heap of (constraints, run)
+        for (int r = 0; r < numRuns; ++r) shortest.emplace_back(0, r);
+        for (const int g : order) {
+            std::pop_heap(shortest.begin(), shortest.end(), std::greater<>());
+            std::pair<long long, int>& run = shortest.back();
+            run.first += split.groups[std::size_t(g)].count;
+            runLength[std::size_t(run.second)] = run.first;
+            runOf[std::size_t(g - firstGroup)] = run.second;
+            std::push_heap(shortest.begin(), shortest.end(), std::greater<>());
+        }
+        // Each run's groups in the split's order (a counting sort by run).
+        runFirst.assign(std::size_t(numRuns) + 1, 0);
+        for (int k = 0; k < numGroups; ++k) ++runFirst[std::size_t(runOf[std::size_t(k)]) + 1];
+        for (int r = 0; r < numRuns; ++r) runFirst[std::size_t(r) + 1] += runFirst[std::size_t(r)];
+        runGroups.resize(std::size_t(numGroups));
+        {
+            std::vector<int> fill(runFirst.begin(), runFirst.end() - 1);
+            for (int k = 0; k < numGroups; ++k) runGroups[std::size_t(fill[std::size_t(runOf[std::size_t(k)])]++)] = firstGroup + k;
         }
         for (int b = 0; b < numBundles; ++b) {
             int steps = 0;
             for (std::size_t i = 0; i < W; ++i) {
                 const std::size_t r = std::size_t(b) * W + i;
-                cursors[i] = Cursor{runStart[r], runStart[r + 1], 0};
-                int length = 0;
-                for (int g = runStart[r]; g < runStart[r + 1]; ++g) length += split.groups[std::size_t(g)].count;
-                steps = std::max(steps, length);
+                cursors[i] = Cursor{runFirst[r], runFirst[r + 1], 0};
+                steps = std::max(steps, int(runLength[r]));
             }
             out.bundles.push_back(btoclGroup{int(out.slots.size()), steps, 1, -1});
             for (int t = 0; t < steps; ++t) {
@@ -87,15 +108,16 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
                 out.laneInts.resize(ints + BTOCL_LANE_INTS * W, 0);
                 for (std::size_t i = 0; i < W; ++i) {
                     Cursor& cur = cursors[i];
-                    while (cur.group < cur.end && cur.position >= split.groups[std::size_t(cur.group)].count) {
-                        ++cur.group;
+                    while (cur.at < cur.end &&
+                           cur.position >= split.groups[std::size_t(runGroups[std::size_t(cur.at)])].count) {
+                        ++cur.at;
                         cur.position = 0;
                     }
-                    if (cur.group >= cur.end) {
+                    if (cur.at >= cur.end) {
                         out.laneConstraint.push_back(-1);
                         continue;
                     }
-                    const btoclGroup& g = split.groups[std::size_t(cur.group)];
+                    const btoclGroup& g = split.groups[std::size_t(runGroups[std::size_t(cur.at)])];
                     // Constraints lie in gather order, read here in solve order: the lane's record
                     // a few slots ahead asked for (within its group; a group's first few wait).
                     if (cur.position + kPrefetchAhead < g.count)
