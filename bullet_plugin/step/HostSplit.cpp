@@ -1,13 +1,18 @@
 #include "HostSplit.h"
 
+#include "HostParallel.h"
 #include "btOpenCLSolverError.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
 namespace btocl {
 namespace {
+
+// The constraints' bounds are taken in this many fixed chunks (makeSplitGridHost).
+constexpr size_t kSplitChunks = 16;
 
 void checkBodyIndex(int body, size_t numBodies, size_t constraint) {
     if (body < 0 || size_t(body) >= numBodies)
@@ -29,25 +34,43 @@ int splitKeyOfConstraint(const btoclConstraint& c, const btoclSplitGrid& g, cons
 }
 
 btoclSplitGrid makeSplitGridHost(const btoclConstraint* constraints, size_t n, float baseCellSize) {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < n; ++i) {
-        const btoclConstraint& c = constraints[i];
-        const float p[3] = {c.position.x, c.position.y, c.position.z};
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::fmin(lo[a], p[a]);
-            hi[a] = std::fmax(hi[a], p[a]);
+    // The bounds of fixed chunks, on the host's threads, then of the chunks in their order: the
+    // same result whichever thread takes a chunk (the loop reads memory the gather's threads
+    // just wrote, and one thread waited on it).
+    struct Bounds {
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    };
+    std::array<Bounds, kSplitChunks> chunks{};
+    parallelFor(kSplitChunks, [&](size_t k) {
+        Bounds& b = chunks[k];
+        for (size_t i = n * k / kSplitChunks; i < n * (k + 1) / kSplitChunks; ++i) {
+            const btoclConstraint& c = constraints[i];
+            const float p[3] = {c.position.x, c.position.y, c.position.z};
+            for (int a = 0; a < 3; ++a) {
+                b.lo[a] = std::fmin(b.lo[a], p[a]);
+                b.hi[a] = std::fmax(b.hi[a], p[a]);
+            }
         }
-    }
-    return btoclMakeSplitGrid(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], baseCellSize);
+    }, n / kSplitChunks);
+    Bounds all;
+    for (const Bounds& b : chunks)
+        for (int a = 0; a < 3; ++a) {
+            all.lo[a] = std::fmin(all.lo[a], b.lo[a]);
+            all.hi[a] = std::fmax(all.hi[a], b.hi[a]);
+        }
+    return btoclMakeSplitGrid(all.lo[0], all.lo[1], all.lo[2], all.hi[0], all.hi[1], all.hi[2], baseCellSize);
 }
 
 void splitHostInto(const btoclConstraint* constraints, size_t count, const std::vector<SplitBody>& bodies,
                    const SplitParams& params, bool serialRuns, BatchLayout& layout) {
-    for (size_t i = 0; i < count; ++i) {
+    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    // Every constraint's bodies checked (a btOpenCLSolverError) before the layout changes.
+    parallelFor(count, [&](size_t i) {
         checkBodyIndex(constraints[i].bodyA, bodies.size(), i);
         checkBodyIndex(constraints[i].bodyB, bodies.size(), i);
-    }
-    const SplitBodiesPlan plan = planSplitBodies(bodies, params);
+    });
+    btoclSplitGrid grid{};
+    if (count > 0) grid = makeSplitGridHost(constraints, count, plan.baseCellSize);
     const int n = int(count);
     layout.solveOrder.resize(size_t(n));
     layout.batchEnd.assign(size_t(n), 0);
@@ -58,11 +81,10 @@ void splitHostInto(const btoclConstraint* constraints, size_t count, const std::
     layout.serialRuns = serialRuns;
     if (n == 0) return;
 
-    const btoclSplitGrid grid = makeSplitGridHost(constraints, count, plan.baseCellSize);
     layout.cellSize = grid.cellSize;
     // Stable counting sort by key: each group's constraints stay in index order.
     std::vector<int> keys(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) keys[size_t(i)] = splitKeyOfConstraint(constraints[i], grid, plan.overflowBody);
+    parallelFor(size_t(n), [&](size_t i) { keys[i] = splitKeyOfConstraint(constraints[i], grid, plan.overflowBody); });
     std::vector<int> start(size_t(grid.overflowKey) + 2, 0);
     for (int key : keys) ++start[size_t(key) + 1];
     for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
