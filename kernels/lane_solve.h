@@ -60,36 +60,38 @@ typedef struct {
 #define BTOCL_LOAD_RECORD(i) const float8 record##i = vload8(0, base + at.s##i);
 #define BTOCL_RECORD_FLOAT(i, f) record##i.s##f
 
+// W records of 8 floats, lane i's at float index at.si of `base`, turned into vectors: s<f> holds
+// float f of every lane's record.
+typedef struct {
+    btoclLanesF s0, s1, s2, s3, s4, s5, s6;  // float 7 of a record is never read
+} btoclLaneRecords;
+BTOCL_SOLVE_INLINE btoclLaneRecords btoclLoadLaneRecords(__global const float* base, btoclLanesI at) {
+    BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
+    btoclLaneRecords r;
+    r.s0 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
+    r.s1 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
+    r.s2 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
+    r.s3 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 3);
+    r.s4 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
+    r.s5 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
+    r.s6 = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
+    return r;
+}
+
 // A side's bodies of a slot's lanes: the velocities from the deltas and the per-unit scales from
 // the bodies' own (bodyPerUnit), W records of each turned into vectors.
 BTOCL_SOLVE_INLINE btoclLaneBodies btoclLoadLaneBodies(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
                                                        btoclLanesI body, int push, int warmStart) {
     btoclLaneBodies l;
-    {
-        // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
-        __global const float* base = (__global const float*)b->deltas;
-        const btoclLanesI at = body * 16 + (push ? 8 : 0);
-        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
-        l.linX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
-        l.linY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
-        l.linZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
-        l.angX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
-        l.angY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
-        l.angZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
-    }
-    {
-        // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
-        __global const float* base = lb->bodyPerUnit;
-        const btoclLanesI at = body * BTOCL_BODY_PER_UNIT_FLOATS + (warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2);
-        BTOCL_EACH_LANE(BTOCL_LOAD_RECORD)
-        l.lpuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 0);
-        l.lpuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 1);
-        l.lpuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 2);
-        l.dynamic = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 3);
-        l.apuX = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 4);
-        l.apuY = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 5);
-        l.apuZ = BTOCL_LANES_VECTOR(BTOCL_RECORD_FLOAT, 6);
-    }
+    // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
+    const btoclLaneRecords v = btoclLoadLaneRecords((__global const float*)b->deltas, body * 16 + (push ? 8 : 0));
+    l.linX = v.s0, l.linY = v.s1, l.linZ = v.s2;
+    l.angX = v.s4, l.angY = v.s5, l.angZ = v.s6;
+    // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
+    const btoclLaneRecords u = btoclLoadLaneRecords(
+        lb->bodyPerUnit, body * BTOCL_BODY_PER_UNIT_FLOATS + (warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2));
+    l.lpuX = u.s0, l.lpuY = u.s1, l.lpuZ = u.s2, l.dynamic = u.s3;
+    l.apuX = u.s4, l.apuY = u.s5, l.apuZ = u.s6;
     return l;
 }
 
