@@ -331,8 +331,8 @@ typedef struct {
 // The lanes layout (a CPU's vector unit; docs/architecture.md, "Lanes"). Groups of one set share
 // no dynamic body, so W runs of them are walked side by side, one per lane: a **bundle**. At each
 // of its **slots** lane i holds the next constraint of its run, and the slot's rows lie in blocks
-// of W rows, one per lane, each float of the W rows together (a row's 20 floats in
-// btoclSolveRow's order), so that a vector load reads one float of every lane's row. Rows of a
+// of W rows, one per lane, each float of the W rows together (a row's BTOCL_LANE_ROW_FLOATS), so
+// that a vector load reads one float of every lane's row. Rows of a
 // slot's kind k lie in block first + k; a lane whose constraint has fewer rows holds zeros there.
 typedef struct {
     int normalBlock;     // first block of the slot's normal rows (rows normalBlock * W + lane)
@@ -348,9 +348,14 @@ enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_FIRST
 // (the only ones stored), angularPerUnit xyz, 0; then the other passes' eight, the same way.
 #define BTOCL_BODY_PER_UNIT_FLOATS 16
 #define BTOCL_SOLVE_ROW_FLOATS 20
-// Where float `field` (btoclSolveRow's floats in order, 0 to 19) of wide row `index` lies.
+// A lane block's row: btoclSolveRow's floats 0 to 18, float 15 holding a normal row's push rhs
+// (angularComponentA's w) or a friction row's coefficient (angularComponentB's w, float 19 of the
+// record): a contact row has one of them, and the lanes stream one float less a row.
+#define BTOCL_LANE_ROW_FLOATS 19
+#define BTOCL_LANE_ROW_SHARED 15
+// Where float `field` (0 to 18, above) of wide row `index` lies.
 BTOCL_INLINE int btoclWideRowFloat(int index, int field, int lanes) {
-    return (index / lanes) * (BTOCL_SOLVE_ROW_FLOATS * lanes) + field * lanes + index % lanes;
+    return (index / lanes) * (BTOCL_LANE_ROW_FLOATS * lanes) + field * lanes + index % lanes;
 }
 
 #ifndef __OPENCL_VERSION__

@@ -17,14 +17,19 @@ BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float
                                     BTOCL_GLOBAL float* pushApplied, int lanes, int block, int lane,
                                     btoclSolveRow r, float impulse) {
     BTOCL_GLOBAL float* out = wide + btoclWideRowFloat(block * lanes + lane, 0, lanes);
-    const btoclFloat4 parts[5] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA,
-                                  r.angularComponentB};
-    for (int v = 0; v < 5; ++v) {
+    const btoclFloat4 parts[4] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA};
+    for (int v = 0; v < 4; ++v) {
         out[(4 * v) * lanes] = parts[v].x;
         out[(4 * v + 1) * lanes] = parts[v].y;
         out[(4 * v + 2) * lanes] = parts[v].z;
         out[(4 * v + 3) * lanes] = parts[v].w;
     }
+    // The push rhs, or where a row has none (a friction row's is 0) its friction coefficient: a
+    // push rhs of -0 becomes +0, which the push pass skips as it skips -0.
+    out[BTOCL_LANE_ROW_SHARED * lanes] = r.angularComponentA.w != 0.0f ? r.angularComponentA.w : r.angularComponentB.w;
+    out[16 * lanes] = r.angularComponentB.x;
+    out[17 * lanes] = r.angularComponentB.y;
+    out[18 * lanes] = r.angularComponentB.z;
     applied[block * lanes + lane] = impulse;
     pushApplied[block * lanes + lane] = 0.0f;
 }

@@ -194,7 +194,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
     }
     btoclLaneBodies A = btoclLoadLaneBodies(b, lb, bodyA, push, pass == BTOCL_PASS_WARMSTART);
     btoclLaneBodies B = btoclLoadLaneBodies(b, lb, bodyB, push, pass == BTOCL_PASS_WARMSTART);
-    const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * BTOCL_LANES;
+    const int blockFloats = BTOCL_LANE_ROW_FLOATS * BTOCL_LANES;
     if (pass == BTOCL_PASS_FRICTION) {
         const int perPoint = lb->frictionPerPoint;
         for (int k = 0; k < s.frictionBlocks; ++k) {
@@ -202,7 +202,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
             __global const float* row = lb->rows + block * blockFloats;
             BTOCL_PREFETCH_ROWS(row, blockFloats);
             const btoclLanesF total = btoclLoadLanes(b->applied + (s.normalBlock + k / perPoint) * BTOCL_LANES);
-            const btoclLanesF limit = btoclLoadLanes(row + 19 * BTOCL_LANES) * total;  // friction coefficient
+            const btoclLanesF limit = btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) * total;  // friction coefficient
             const btoclLanesI active = (numPoints * perPoint > k) & (total > 0.0f);
             btoclSolveLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, -limit, limit, 0, active);
         }
@@ -215,7 +215,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
             if (pass == BTOCL_PASS_WARMSTART) {
                 btoclWarmStartLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, active);
             } else if (push) {
-                active &= btoclLoadLanes(row + 15 * BTOCL_LANES) != 0.0f;  // no push share: skipped
+                active &= btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) != 0.0f;  // no push share: skipped
                 btoclSolveLaneRows(row, b->pushApplied + block * BTOCL_LANES, &A, &B, (btoclLanesF)0.0f,
                                    (btoclLanesF)BTOCL_FLT_MAX, 1, active);
             } else {

@@ -109,7 +109,7 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
         m_applied.enqueueUpload(m_rt, setOnHost->applied);
         m_pushApplied.enqueueUpload(m_rt, setOnHost->pushApplied);
     } else {
-        m_wideRows.reserve(m_rt, places * BTOCL_SOLVE_ROW_FLOATS);
+        m_wideRows.reserve(m_rt, places * BTOCL_LANE_ROW_FLOATS);
         m_applied.reserve(m_rt, places);
         m_pushApplied.reserve(m_rt, places);
     }

@@ -110,7 +110,7 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
                                   ", not " + std::to_string(layout.lanes));
     const size_t numSlots = layout.slots.size();
-    out.rows.resize(size_t(layout.numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
+    out.rows.resize(size_t(layout.numBlocks) * BTOCL_LANE_ROW_FLOATS * W);
     out.applied.resize(size_t(layout.numBlocks) * W);
     out.pushApplied.resize(size_t(layout.numBlocks) * W);
     out.inVectors.resize(numSlots);
@@ -141,7 +141,7 @@ BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<
                                       const HostArray<float>& perUnit, btoclBodyDelta* deltas, int pass) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
-    const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
+    const int blockFloats = BTOCL_LANE_ROW_FLOATS * W;
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set)
         for (int bi = layout.setBundleStart[size_t(set)]; bi < layout.setBundleStart[size_t(set) + 1]; ++bi) {
             const btoclGroup& bundle = layout.bundles[size_t(bi)];
@@ -158,7 +158,7 @@ BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<
                         const int block = s.frictionBlock + k;
                         const float* row = rows.data() + size_t(block) * blockFloats;
                         const Lanes total = load(applied.data() + size_t(s.normalBlock + k / perPoint) * W);
-                        const Lanes limit = load(row + 19 * W) * total;
+                        const Lanes limit = load(row + BTOCL_LANE_ROW_SHARED * W) * total;
                         const LaneMask active = (numPoints * perPoint > k) & (total > 0.0f);
                         solveRows(row, applied.data() + size_t(block) * W, A, B, -limit, limit, 0, active);
                     }
@@ -170,7 +170,7 @@ BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<
                         if (warmStart) {
                             applyImpulse(row, A, B, load(applied.data() + size_t(block) * W), active);
                         } else if (push) {
-                            active &= load(row + 15 * W) != 0.0f;  // no push share: skipped
+                            active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
                             solveRows(row, pushApplied.data() + size_t(block) * W, A, B, splat(0.0f),
                                       splat(BTOCL_FLT_MAX), 1, active);
                         } else {

@@ -209,7 +209,11 @@ BTOCL_LANES_INLINE void pointRowLanes(PointRowLanes& out, const btoclContactPoin
 // A row into its block of the lane layout (lanes not in `active` zero), its impulses with it.
 BTOCL_LANES_INLINE void storeBlock(const RowLanes& r, LaneMask active, float* block, float* applied,
                                    float* pushApplied) {
-    for (int f = 0; f < BTOCL_SOLVE_ROW_FLOATS; ++f) store(select(splat(0.0f), r.f[f], active), block + f * W);
+    for (int f = 0; f < BTOCL_LANE_ROW_FLOATS; ++f) {
+        // Float 15 as lane_setup.h's btoclStoreLaneRow writes it: the push rhs, else float 19.
+        const Lanes value = f == BTOCL_LANE_ROW_SHARED ? select(r.f[19], r.f[15], r.f[15] != 0.0f) : r.f[f];
+        store(select(splat(0.0f), value, active), block + f * W);
+    }
     store(select(splat(0.0f), r.impulse, active), applied);
     store(splat(0.0f), pushApplied);
 }
@@ -254,7 +258,7 @@ BTOCL_LANES_TARGET bool slotRowsInLanes(const btoclContactPoint* points, const b
         for (int i = 0; i < W; ++i) pt[i] = k < numPoints[i] ? points + firstPoint[i] + k : &kNoPoint;
         PointRowLanes rows;
         pointRowLanes(rows, pt, A, B, prm, two);
-        const size_t blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
+        const size_t blockFloats = BTOCL_LANE_ROW_FLOATS * W;
         const int normal = s.normalBlock + k, friction = s.frictionBlock + k * (two ? 2 : 1);
         storeBlock(rows.normal, active, wide + normal * blockFloats, applied + normal * W, pushApplied + normal * W);
         for (int d = 0; d < (two ? 2 : 1); ++d)
