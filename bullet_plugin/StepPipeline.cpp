@@ -246,10 +246,8 @@ void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const Solv
     // code on both cores, in place (the setup kernel runs a slot a work-item, scalar).
     const bool rowsOnHost = hostSetsUpLaneRows(m_laneLayout.lanes, m_runtime);
     const auto t1 = std::chrono::steady_clock::now();
-    if (rowsOnHost)
-        setUpLaneRows(p, m_laneLayout, settings.flags, m_laneRows);
-    else
-        setUpBodyPerUnit(p, settings.flags, m_laneRows.perUnit);
+    if (rowsOnHost) setUpLaneRows(p, m_laneLayout, m_laneRows);
+    setUpBodyPerUnit(p, settings.flags, m_laneRows.perUnit);
     const double msRowsOnHost = msSince(t1);
     m_runtime.beginPhase(DevicePhase::Setup);
     m_solve.arrangeInLanes(p, m_laneLayout, m_laneRows.perUnit, rowsOnHost ? &m_laneRows : nullptr);

@@ -202,7 +202,8 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
             __global const float* row = lb->rows + block * blockFloats;
             BTOCL_PREFETCH_ROWS(row, blockFloats);
             const btoclLanesF total = btoclLoadLanes(b->applied + (s.normalBlock + k / perPoint) * BTOCL_LANES);
-            const btoclLanesF limit = btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) * total;  // friction coefficient
+            // The friction coefficient times the point's normal impulse.
+            const btoclLanesF limit = btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) * total;
             const btoclLanesI active = (numPoints * perPoint > k) & (total > 0.0f);
             btoclSolveLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, -limit, limit, 0, active);
         }

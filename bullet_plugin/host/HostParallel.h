@@ -81,11 +81,11 @@ constexpr size_t kJointWeight = 16;
 constexpr size_t kContactConstraintWeight = 32;
 
 // Calls f(i) for every i in [0, n): in parallel from minParallelItems() on (an eighth of it while
-// the pool waits awake), counting each item as `weight` (the constants above). The items are split in contiguous ranges, eight per thread,
-// which the threads take as they come, so that a worker that wakes late still takes a share (on
-// a VM a worker can wake after the caller has finished a whole loop alone). An exception thrown
-// by f ends its range:
-// the loop rethrows the one of the lowest index, as the serial loop would have thrown first.
+// the pool waits awake), counting each item as `weight` (the constants above). The items are
+// split in contiguous ranges, eight per thread, which the threads take as they come, so that a
+// worker that wakes late still takes a share (on a VM a worker can wake after the caller has
+// finished a whole loop alone). An exception thrown by f ends its range: the loop rethrows the
+// one of the lowest index, as the serial loop would have thrown first.
 template <class F>
 void parallelFor(size_t n, F&& f, size_t weight = 1) {
     const size_t threads = size_t(hostThreads());

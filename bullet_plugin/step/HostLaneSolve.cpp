@@ -34,8 +34,8 @@ BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const flo
     l.linX = v[0], l.linY = v[1], l.linZ = v[2];
     l.angX = v[4], l.angY = v[5], l.angZ = v[6];
     // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
-    for (int i = 0; i < W; ++i)
-        records[i] = perUnit + size_t(body[i]) * BTOCL_BODY_PER_UNIT_FLOATS + (warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2);
+    const int unitOffset = warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2;
+    for (int i = 0; i < W; ++i) records[i] = perUnit + size_t(body[i]) * BTOCL_BODY_PER_UNIT_FLOATS + unitOffset;
     transpose8(records, v);
     l.lpuX = v[0], l.lpuY = v[1], l.lpuZ = v[2], l.dynamic = v[3];
     l.apuX = v[4], l.apuY = v[5], l.apuZ = v[6];
@@ -105,7 +105,7 @@ void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
     }, kRigidBodyWeight);
 }
 
-void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out) {
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
     if (layout.lanes != W)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
                                   ", not " + std::to_string(layout.lanes));
@@ -125,12 +125,12 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows
             btoclSetupLaneRows(p.points.data(), p.bodies.data(), layout.slots[slot], ints, lane, out.rows.data(),
                                out.applied.data(), out.pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
     }, W * kContactConstraintWeight);
-    setUpBodyPerUnit(p, flags, out.perUnit);
 }
 
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
     layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
-    setUpLaneRows(p, m_layout, flags, m_rows);
+    setUpLaneRows(p, m_layout, m_rows);
+    setUpBodyPerUnit(p, flags, m_rows.perUnit);
 }
 
 namespace {

@@ -19,9 +19,9 @@ namespace btocl {
 void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out);
 
 // Every contact row of `layout` (eight lanes: HostLaneSolve::kLanes) set up from p.points into
-// `out` and p.lateralDirs, as setup.cl's setupLaneSlots sets them up (the same bits), and the
-// bodies' per-unit scales, on the host's threads. Called only where HostLaneSolve::available().
-void setUpLaneRows(StepProblem& p, const LaneLayout& layout, int flags, LaneRows& out);
+// `out` (all but its perUnit, setUpBodyPerUnit's) and p.lateralDirs, as setup.cl's setupLaneSlots
+// sets them up (the same bits), on the host's threads. Called only where HostLaneSolve::available().
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out);
 
 class HostLaneSolve {
 public:

@@ -39,25 +39,23 @@ btoclSplitGrid makeSplitGridHost(const btoclConstraint* constraints, size_t n, f
     // just wrote, and one thread waited on it).
     struct Bounds {
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        void include(const float* low, const float* high) {
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::fmin(lo[a], low[a]);
+                hi[a] = std::fmax(hi[a], high[a]);
+            }
+        }
     };
     std::array<Bounds, kSplitChunks> chunks{};
     parallelFor(kSplitChunks, [&](size_t k) {
-        Bounds& b = chunks[k];
         for (size_t i = n * k / kSplitChunks; i < n * (k + 1) / kSplitChunks; ++i) {
-            const btoclConstraint& c = constraints[i];
-            const float p[3] = {c.position.x, c.position.y, c.position.z};
-            for (int a = 0; a < 3; ++a) {
-                b.lo[a] = std::fmin(b.lo[a], p[a]);
-                b.hi[a] = std::fmax(b.hi[a], p[a]);
-            }
+            const btoclFloat4& p = constraints[i].position;
+            const float point[3] = {p.x, p.y, p.z};
+            chunks[k].include(point, point);
         }
     }, n / kSplitChunks);
     Bounds all;
-    for (const Bounds& b : chunks)
-        for (int a = 0; a < 3; ++a) {
-            all.lo[a] = std::fmin(all.lo[a], b.lo[a]);
-            all.hi[a] = std::fmax(all.hi[a], b.hi[a]);
-        }
+    for (const Bounds& b : chunks) all.include(b.lo, b.hi);
     return btoclMakeSplitGrid(all.lo[0], all.lo[1], all.lo[2], all.hi[0], all.hi[1], all.hi[2], baseCellSize);
 }
 

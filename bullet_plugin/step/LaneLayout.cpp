@@ -92,7 +92,8 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         runGroups.resize(std::size_t(numGroups));
         {
             std::vector<int> fill(runFirst.begin(), runFirst.end() - 1);
-            for (int k = 0; k < numGroups; ++k) runGroups[std::size_t(fill[std::size_t(runOf[std::size_t(k)])]++)] = firstGroup + k;
+            for (int k = 0; k < numGroups; ++k)
+                runGroups[std::size_t(fill[std::size_t(runOf[std::size_t(k)])]++)] = firstGroup + k;
         }
         for (int b = 0; b < numBundles; ++b) {
             int steps = 0;

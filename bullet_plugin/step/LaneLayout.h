@@ -2,8 +2,9 @@
 // lane_solve.h, docs/architecture.md "Lanes"). Groups of one set share no dynamic body, so each
 // set's groups are dealt to W x B lanes in B bundles, each lane a run of groups of about the
 // same number of constraints (the largest group first, to the shortest run); at each slot of a
-// bundle lane i holds the next constraint of its run. The lanes of a slot never share a dynamic body, and each lane walks its
-// groups in the split's order, so each constraint meets its bodies as in the one-lane walk.
+// bundle lane i holds the next constraint of its run. The lanes of a slot never share a dynamic
+// body, and each lane walks its groups in the split's order, so each constraint meets its bodies
+// as in the one-lane walk.
 #pragma once
 
 #include "BatchLayout.h"
