@@ -329,8 +329,8 @@ typedef struct {
 } btoclGroup;
 
 // The lanes layout (a CPU's vector unit; docs/architecture.md, "Lanes"). Groups of one set share
-// no dynamic body, so W runs of them are walked side by side, one per lane: a **bundle**. At each
-// of its **slots** lane i holds the next constraint of its run, and the slot's rows lie in blocks
+// no dynamic body, so W of them are walked side by side, one per lane: a **bundle** walks its
+// groups in **slots**, each holding the next constraints of up to W groups, and the slot's rows lie in blocks
 // of W rows, one per lane, each float of the W rows together (a row's BTOCL_LANE_ROW_FLOATS), so
 // that a vector load reads one float of every lane's row. Rows of a
 // slot's kind k lie in block first + k; a lane whose constraint has fewer rows holds zeros there.

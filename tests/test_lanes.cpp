@@ -145,23 +145,37 @@ TEST_CASE("the lane layout keeps its invariants, and its validator finds a broke
     REQUIRE(validateLaneLayout(layout, split, p.constraints) == "");
     CHECK(layout.usedLanes == long(p.constraints.size()));
     CHECK(layout.usedRowPlaces == p.numRows());
-    CHECK(layout.laneFill() > 0.5);  // runs of groups even the lanes out
+    CHECK(layout.laneFill() > 0.5);  // several groups a lane even the lanes out
 
-    // Mutations of a slot whose first two lanes hold constraints, and of the slot after it.
+    // Mutations of the layout, and of a slot whose first two lanes hold constraints.
     size_t slot = 0;
     while (slot + 1 < layout.slots.size() &&
            (layout.laneConstraint[slot * size_t(lanes)] < 0 || layout.laneConstraint[slot * size_t(lanes) + 1] < 0 ||
             layout.laneConstraint[(slot + 1) * size_t(lanes)] < 0))
         ++slot;
     REQUIRE(slot + 1 < layout.slots.size());
-    const size_t first = slot * size_t(lanes);
-    // Two lanes' constraints swapped (their ints with them): each lane's run is broken.
+    // A group's constraint swapped with its next, in a later slot (their ints with them): the
+    // group's order is broken.
+    std::vector<int> groupOf(p.constraints.size(), -1);
+    for (size_t g = 0; g < split.groups.size(); ++g)
+        for (int k = 0; k < split.groups[g].count; ++k)
+            groupOf[size_t(split.solveOrder[size_t(split.groups[g].offset + k)])] = int(g);
+    size_t here = 0, later = 0;
+    for (size_t a = 0; a < layout.laneConstraint.size() && later == 0; ++a)
+        for (size_t b = a + 1; b < layout.laneConstraint.size() && later == 0; ++b)
+            if (layout.laneConstraint[a] >= 0 && layout.laneConstraint[b] >= 0 && b / size_t(lanes) > a / size_t(lanes) &&
+                groupOf[size_t(layout.laneConstraint[a])] == groupOf[size_t(layout.laneConstraint[b])]) {
+                here = a;
+                later = b;
+            }
+    REQUIRE(later > 0);
     LaneLayout moved = layout;
-    std::swap(moved.laneConstraint[first], moved.laneConstraint[first + 1]);
-    for (int f = 0; f < BTOCL_LANE_INTS; ++f)
-        std::swap(moved.laneInts[slot * BTOCL_LANE_INTS * size_t(lanes) + size_t(f * lanes)],
-                  moved.laneInts[slot * BTOCL_LANE_INTS * size_t(lanes) + size_t(f * lanes) + 1]);
-    CHECK(validateLaneLayout(moved, split, p.constraints) != "");
+    std::swap(moved.laneConstraint[here], moved.laneConstraint[later]);
+    for (int f = 0; f < BTOCL_LANE_INTS; ++f) {
+        const auto place = [&](size_t at) { return at / size_t(lanes) * BTOCL_LANE_INTS * size_t(lanes) + size_t(f * lanes) + at % size_t(lanes); };
+        std::swap(moved.laneInts[place(here)], moved.laneInts[place(later)]);
+    }
+    CHECK(validateLaneLayout(moved, split, p.constraints) == "a group's constraints out of its order");
     // A row's place taken by another row.
     LaneLayout shared = layout;
     shared.rowMap[1] = shared.rowMap[0];
@@ -173,6 +187,44 @@ TEST_CASE("the lane layout keeps its invariants, and its validator finds a broke
     // Rows the lanes do not solve: a layout is refused.
     CHECK_THROWS_AS(layOutLanes(split, p.constraints.data(), p.regions, lanes, 2, minBundles, layout),
                     btOpenCLSolverError);
+}
+
+TEST_CASE("a lane layout's slots take constraints of like point counts", "[lanes]") {
+    // Sixteen groups of eight constraints on bodies of their own, in one set: eight groups of
+    // four-point constraints and eight of one-point ones, interleaved in the split's order. Eight
+    // lanes of one bundle can take the one-point constraints in eight slots of one block and the
+    // four-point ones in eight of four: every row place filled, in the fewest slots. A slot of
+    // mixed counts would leave places empty.
+    using namespace btocl;
+    constexpr int kGroups = 16, kPerGroup = 8, W = 8;
+    std::vector<btoclConstraint> constraints;
+    BatchLayout split;
+    split.serialRuns = true;
+    int normalRows = 0;
+    for (int g = 0; g < kGroups; ++g) {
+        split.groups.push_back(btoclGroup{g * kPerGroup, kPerGroup, 1, g});
+        for (int k = 0; k < kPerGroup; ++k) {
+            btoclConstraint c{};
+            c.bodyA = 1 + g * (kPerGroup + 1) + k;  // a chain of bodies a group: 0 is fixed
+            c.bodyB = c.bodyA + 1;
+            c.dynamicA = c.dynamicB = 1;
+            c.numRows[BTOCL_ROWS_NORMAL] = g % 2 ? 1 : 4;
+            c.numRows[BTOCL_ROWS_FRICTION] = c.numRows[BTOCL_ROWS_NORMAL];
+            c.firstRow[BTOCL_ROWS_NORMAL] = normalRows;
+            normalRows += c.numRows[BTOCL_ROWS_NORMAL];
+            split.solveOrder.push_back(int(constraints.size()));
+            constraints.push_back(c);
+        }
+    }
+    for (btoclConstraint& c : constraints) c.firstRow[BTOCL_ROWS_FRICTION] = normalRows + c.firstRow[BTOCL_ROWS_NORMAL];
+    for (int s = 1; s < BTOCL_NUM_SETS + 2; ++s) split.setGroupStart[size_t(s)] = kGroups;
+    const btoclRowRegions regions = btoclRowRegionsOf(normalRows, normalRows, 0, 0);
+    LaneLayout layout;
+    layOutLanes(split, constraints.data(), regions, W, 1, 1, layout);
+    REQUIRE(validateLaneLayout(layout, split, constraints) == "");
+    CHECK(layout.slots.size() == size_t(kGroups * kPerGroup / W));
+    CHECK(layout.rowFill() == 1.0);
+    CHECK(layout.laneFill() == 1.0);
 }
 
 TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane setup's bits", "[lanes][host]") {

@@ -1,5 +1,6 @@
 #include "LaneLayout.h"
 
+#include "HostParallel.h"
 #include "btOpenCLSolverError.h"
 
 #include <algorithm>
@@ -10,9 +11,8 @@
 namespace btocl {
 namespace {
 
-// Lanes are dealt runs of about this many groups where a set has enough: runs of several groups
-// even out the lanes' lengths (a slot's lanes all wait for its longest), and fewer bundles
-// leave fewer lanes empty.
+// A bundle takes about this many groups a lane where a set has enough: its slots have heads of
+// several groups to choose from, and fewer bundles leave fewer lanes empty.
 constexpr int kGroupsPerLane = 3;
 constexpr int kPrefetchAhead = 4;
 
@@ -32,11 +32,171 @@ bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint) {
                frictionPerPoint * btoclRegionRows(&regions, BTOCL_ROWS_NORMAL);
 }
 
+namespace {
+
+// A group of a bundle as the slots take it: its next constraint and that constraint's points.
+struct GroupCursor {
+    int group, position, count, headPoints;
+    int remaining() const { return count - position; }
+};
+
+// What a slot reads of a constraint, by solve order.
+struct LaneRecord {
+    int constraint, bodyA, bodyB, points, firstNormal, firstFriction;
+};
+
+// Writes the slots of the layout.
+class SlotWriter {
+public:
+    // The constraints' records by solve order, read ahead of the slots on the host's threads: a
+    // loop of independent loads waits on the scattered records far less than the slots, whose
+    // choices wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
+    SlotWriter(const BatchLayout& split, const btoclConstraint* constraints, int frictionPerPoint, LaneLayout& out)
+        : m_split(split), m_perPoint(frictionPerPoint), m_out(out) {
+        m_records.resize(split.solveOrder.size());
+        parallelFor(m_records.size(), [&](std::size_t k) {
+            const int ci = split.solveOrder[k];
+            const btoclConstraint& c = constraints[ci];
+            const int points = c.numRows[BTOCL_ROWS_NORMAL];
+            if (c.numRows[BTOCL_ROWS_FRICTION] != frictionPerPoint * points || c.numRows[BTOCL_ROWS_ROLLING] != 0 ||
+                c.numRows[BTOCL_ROWS_JOINT] != 0)
+                throw btOpenCLSolverError(
+                    "btOpenCLConstraintSolver: a constraint with rows the lanes do not solve was laid out in lanes");
+            m_records[k] = LaneRecord{ci, c.bodyA, c.bodyB, points, c.firstRow[BTOCL_ROWS_NORMAL],
+                                      c.firstRow[BTOCL_ROWS_FRICTION]};
+        }, kManifoldWeight);
+    }
+
+    int pointsOf(const GroupCursor& g) const { return recordOf(g, g.position).points; }
+
+    // One slot of the lanes' groups' next constraints, in lane order; each group moves on.
+    void write(GroupCursor* const* lanes, int taken) {
+        const std::size_t W = std::size_t(m_out.lanes);
+        btoclLaneSlot slot{m_normalBlocks, 0, m_frictionBlocks, 0};
+        const std::size_t ints = m_out.laneInts.size();
+        m_out.laneInts.resize(ints + BTOCL_LANE_INTS * W, 0);
+        for (std::size_t i = 0; i < W; ++i) {
+            if (int(i) >= taken) {
+                m_out.laneConstraint.push_back(-1);
+                continue;
+            }
+            GroupCursor& g = *lanes[i];
+            // Rows lie in gather order, placed here in solve order: the row map's entries of the
+            // group's constraint a few slots ahead asked for (a group's first few wait), and
+            // its record twice as far ahead.
+            if (g.position + 2 * kPrefetchAhead < g.count) prefetch(&recordOf(g, g.position + 2 * kPrefetchAhead));
+            if (g.position + kPrefetchAhead < g.count) {
+                const LaneRecord& ahead = recordOf(g, g.position + kPrefetchAhead);
+                prefetch(m_out.rowMap.data() + ahead.firstNormal);
+                prefetch(m_out.rowMap.data() + ahead.firstFriction);
+            }
+            const LaneRecord& c = recordOf(g, g.position++);
+            if (g.position < g.count) g.headPoints = pointsOf(g);
+            m_out.laneInts[ints + BTOCL_LANE_BODY_A * W + i] = c.bodyA;
+            m_out.laneInts[ints + BTOCL_LANE_BODY_B * W + i] = c.bodyB;
+            m_out.laneInts[ints + BTOCL_LANE_POINTS * W + i] = c.points;
+            m_out.laneInts[ints + BTOCL_LANE_FIRST_POINT * W + i] = c.firstNormal;
+            m_out.laneConstraint.push_back(c.constraint);
+            const int lanesW = m_out.lanes, lane = int(i);
+            for (int k = 0; k < c.points; ++k)
+                m_out.rowMap[std::size_t(c.firstNormal + k)] = (m_normalBlocks + k) * lanesW + lane;
+            for (int k = 0; k < c.points * m_perPoint; ++k)
+                m_out.rowMap[std::size_t(c.firstFriction + k)] = (m_frictionBlocks + k) * lanesW + lane;
+            slot.normalBlocks = std::max(slot.normalBlocks, c.points);
+            m_out.usedLanes += 1;
+            m_out.usedRowPlaces += c.points * (1 + m_perPoint);
+        }
+        slot.frictionBlocks = slot.normalBlocks * m_perPoint;
+        m_normalBlocks += slot.normalBlocks;
+        m_frictionBlocks += slot.frictionBlocks;
+        m_out.slots.push_back(slot);
+    }
+
+    int normalBlocks() const { return m_normalBlocks; }
+    int frictionBlocks() const { return m_frictionBlocks; }
+
+private:
+    const LaneRecord& recordOf(const GroupCursor& g, int position) const {
+        return m_records[std::size_t(m_split.groups[std::size_t(g.group)].offset + position)];
+    }
+
+    const BatchLayout& m_split;
+    int m_perPoint;
+    LaneLayout& m_out;
+    std::vector<LaneRecord> m_records;
+    int m_normalBlocks = 0, m_frictionBlocks = 0;  // friction blocks counted from the friction region's start
+};
+
+// A bundle's slots from its groups (in the split's order). A slot's blocks are its lanes' most
+// points, so each slot takes the groups whose next constraints have about as many points: of
+// the blocks P it could have, the one that places the most rows a block (a slot's bodies cost
+// about kSlotBlocks blocks more). A group that has as many constraints left as the bundle has
+// slots left to its length (its total over W, or its longest group) goes first, so the bundle
+// ends near that length.
+void scheduleBundle(std::vector<GroupCursor>& groups, int lanes, SlotWriter& writer,
+                    std::vector<std::vector<GroupCursor*>>& byPoints, std::vector<GroupCursor*>& taken) {
+    constexpr double kSlotBlocks = 1.0;
+    long long total = 0;
+    int longest = 0;
+    for (GroupCursor& g : groups) {
+        total += g.count;
+        longest = std::max(longest, g.count);
+        g.headPoints = writer.pointsOf(g);
+    }
+    const long long length = std::max<long long>(longest, (total + lanes - 1) / lanes);
+    std::vector<GroupCursor*> active;
+    for (GroupCursor& g : groups) active.push_back(&g);
+    for (long long slot = 0; !active.empty(); ++slot) {
+        const long long slotsLeft = std::max<long long>(1, length - slot);
+        taken.clear();
+        for (auto& list : byPoints) list.clear();
+        int firstPoints = 0, takenRows = 0;
+        for (GroupCursor* g : active) {
+            if (g->remaining() >= slotsLeft && int(taken.size()) < lanes) {
+                taken.push_back(g);
+                firstPoints = std::max(firstPoints, g->headPoints);
+                takenRows += g->headPoints;
+            } else {
+                if (std::size_t(g->headPoints) >= byPoints.size()) byPoints.resize(std::size_t(g->headPoints) + 1);
+                byPoints[std::size_t(g->headPoints)].push_back(g);
+            }
+        }
+        // The slot's blocks: the most rows a block, counting the slot's bodies.
+        if (std::size_t(firstPoints) >= byPoints.size()) byPoints.resize(std::size_t(firstPoints) + 1);
+        int bestPoints = firstPoints;
+        if (int(taken.size()) < lanes) {
+            double bestScore = -1;
+            int free = lanes - int(taken.size()), rows = takenRows;
+            for (int p = 0; p < int(byPoints.size()); ++p) {
+                const int take = std::min(free, int(byPoints[std::size_t(p)].size()));
+                free -= take;
+                rows += take * p;
+                if (p < firstPoints || (take == 0 && p > firstPoints)) continue;
+                // Rows counted taking the fewest points first: at most what the slot places.
+                const double score = rows / (p + kSlotBlocks);
+                if (score > bestScore) {
+                    bestScore = score;
+                    bestPoints = p;
+                }
+            }
+            for (int p = bestPoints; p >= 0 && int(taken.size()) < lanes; --p)
+                for (GroupCursor* g : byPoints[std::size_t(p)]) {
+                    if (int(taken.size()) >= lanes) break;
+                    taken.push_back(g);
+                }
+        }
+        writer.write(taken.data(), int(taken.size()));
+        active.erase(std::remove_if(active.begin(), active.end(), [](const GroupCursor* g) { return g->remaining() == 0; }),
+                     active.end());
+    }
+}
+
+}  // namespace
+
 void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
                  int lanes, int frictionPerPoint, int minBundlesPerSet, LaneLayout& out) {
     if (lanes < 2 || frictionPerPoint < 1 || !split.serialRuns)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout needs 2 lanes or more and a serial split");
-    const std::size_t W = std::size_t(lanes);
     out.lanes = lanes;
     out.frictionPerPoint = frictionPerPoint;
     out.bundles.clear();
@@ -46,16 +206,12 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     out.rowMap.assign(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]), -1);
     out.usedLanes = 0;
     out.usedRowPlaces = 0;
-    int normalBlocks = 0, frictionBlocks = 0;  // friction blocks counted from the friction region's start
-    // Per run (a lane of a bundle) of the set: its groups, in the split's order, at
-    // runGroups[runFirst[r], runFirst[r + 1]).
-    std::vector<int> order, runFirst, runGroups, runOf;
-    std::vector<long long> runLength;
+    SlotWriter writer(split, constraints, frictionPerPoint, out);
+    std::vector<int> order, bundleOf, bundleFirst;
     std::vector<std::pair<long long, int>> shortest;
-    struct Cursor {
-        int at, end, position;  // the lane's place in runGroups, its run's end there, the position in the group
-    };
-    std::vector<Cursor> cursors(W);
+    std::vector<GroupCursor> cursors;
+    std::vector<std::vector<GroupCursor*>> byPoints;  // by their next constraint's points
+    std::vector<GroupCursor*> taken;
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         out.setBundleStart[std::size_t(set)] = int(out.bundles.size());
         const int firstGroup = split.setGroupStart[std::size_t(set)];
@@ -63,110 +219,57 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         const int numGroups = groupEnd - firstGroup;
         if (numGroups == 0) continue;
         const int mostBundles = (numGroups + lanes - 1) / lanes;  // one group a lane at least
-        const int numBundles = std::max(1, std::min(mostBundles, std::max(minBundlesPerSet, numGroups / (kGroupsPerLane * lanes))));
-        const int numRuns = numBundles * lanes;
-        // The groups of a set share no dynamic body, so any lane may take any of them: the
-        // largest first, each to the run with the fewest constraints so far (the lowest run
-        // where they tie), so that the lanes of a bundle and the bundles end together.
+        const int numBundles =
+            std::max(1, std::min(mostBundles, std::max(minBundlesPerSet, numGroups / (kGroupsPerLane * lanes))));
+        // The groups of a set share no dynamic body, so any bundle may take any of them: the
+        // largest first, each to the bundle with the fewest constraints so far (the lowest where
+        // they tie), so that the bundles end together.
         order.resize(std::size_t(numGroups));
         for (int k = 0; k < numGroups; ++k) order[std::size_t(k)] = firstGroup + k;
         std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
             return split.groups[std::size_t(a)].count > split.groups[std::size_t(b)].count;
         });
-        runLength.assign(std::size_t(numRuns), 0);
-        runOf.assign(std::size_t(numGroups), 0);
-        shortest.clear();  // a min-heap of (constraints, run)
-        for (int r = 0; r < numRuns; ++r) shortest.emplace_back(0, r);
+        bundleOf.assign(std::size_t(numGroups), 0);
+        shortest.clear();  // a min-heap of (constraints, bundle)
+        for (int b = 0; b < numBundles; ++b) shortest.emplace_back(0, b);
         for (const int g : order) {
             std::pop_heap(shortest.begin(), shortest.end(), std::greater<>());
-            std::pair<long long, int>& run = shortest.back();
-            run.first += split.groups[std::size_t(g)].count;
-            runLength[std::size_t(run.second)] = run.first;
-            runOf[std::size_t(g - firstGroup)] = run.second;
+            std::pair<long long, int>& bundle = shortest.back();
+            bundle.first += split.groups[std::size_t(g)].count;
+            bundleOf[std::size_t(g - firstGroup)] = bundle.second;
             std::push_heap(shortest.begin(), shortest.end(), std::greater<>());
         }
-        // Each run's groups in the split's order (a counting sort by run).
-        runFirst.assign(std::size_t(numRuns) + 1, 0);
-        for (int k = 0; k < numGroups; ++k) ++runFirst[std::size_t(runOf[std::size_t(k)]) + 1];
-        for (int r = 0; r < numRuns; ++r) runFirst[std::size_t(r) + 1] += runFirst[std::size_t(r)];
-        runGroups.resize(std::size_t(numGroups));
+        // Each bundle's groups in the split's order (a counting sort by bundle).
+        bundleFirst.assign(std::size_t(numBundles) + 1, 0);
+        for (int k = 0; k < numGroups; ++k) ++bundleFirst[std::size_t(bundleOf[std::size_t(k)]) + 1];
+        for (int b = 0; b < numBundles; ++b) bundleFirst[std::size_t(b) + 1] += bundleFirst[std::size_t(b)];
+        cursors.resize(std::size_t(numGroups));
         {
-            std::vector<int> fill(runFirst.begin(), runFirst.end() - 1);
+            std::vector<int> fill(bundleFirst.begin(), bundleFirst.end() - 1);
             for (int k = 0; k < numGroups; ++k)
-                runGroups[std::size_t(fill[std::size_t(runOf[std::size_t(k)])]++)] = firstGroup + k;
+                cursors[std::size_t(fill[std::size_t(bundleOf[std::size_t(k)])]++)] =
+                    GroupCursor{firstGroup + k, 0, split.groups[std::size_t(firstGroup + k)].count, 0};
         }
+        std::vector<GroupCursor> bundleGroups;
         for (int b = 0; b < numBundles; ++b) {
-            int steps = 0;
-            for (std::size_t i = 0; i < W; ++i) {
-                const std::size_t r = std::size_t(b) * W + i;
-                cursors[i] = Cursor{runFirst[r], runFirst[r + 1], 0};
-                steps = std::max(steps, int(runLength[r]));
-            }
-            out.bundles.push_back(btoclGroup{int(out.slots.size()), steps, 1, -1});
-            for (int t = 0; t < steps; ++t) {
-                btoclLaneSlot slot{normalBlocks, 0, frictionBlocks, 0};
-                const std::size_t ints = out.laneInts.size();
-                out.laneInts.resize(ints + BTOCL_LANE_INTS * W, 0);
-                for (std::size_t i = 0; i < W; ++i) {
-                    Cursor& cur = cursors[i];
-                    while (cur.at < cur.end &&
-                           cur.position >= split.groups[std::size_t(runGroups[std::size_t(cur.at)])].count) {
-                        ++cur.at;
-                        cur.position = 0;
-                    }
-                    if (cur.at >= cur.end) {
-                        out.laneConstraint.push_back(-1);
-                        continue;
-                    }
-                    const btoclGroup& g = split.groups[std::size_t(runGroups[std::size_t(cur.at)])];
-                    // Constraints lie in gather order, read here in solve order: the lane's record
-                    // a few slots ahead asked for (within its group; a group's first few wait).
-                    if (cur.position + kPrefetchAhead < g.count)
-                        prefetch(constraints + split.solveOrder[std::size_t(g.offset + cur.position + kPrefetchAhead)]);
-                    // ... and the row map's entries of the one half as far ahead, whose record is there.
-                    if (cur.position + kPrefetchAhead / 2 < g.count) {
-                        const btoclConstraint& ahead =
-                            constraints[split.solveOrder[std::size_t(g.offset + cur.position + kPrefetchAhead / 2)]];
-                        prefetch(out.rowMap.data() + ahead.firstRow[BTOCL_ROWS_NORMAL]);
-                        prefetch(out.rowMap.data() + ahead.firstRow[BTOCL_ROWS_FRICTION]);
-                    }
-                    const int ci = split.solveOrder[std::size_t(g.offset + cur.position++)];
-                    const btoclConstraint& c = constraints[ci];
-                    const int points = c.numRows[BTOCL_ROWS_NORMAL];
-                    if (c.numRows[BTOCL_ROWS_FRICTION] != frictionPerPoint * points || c.numRows[BTOCL_ROWS_ROLLING] != 0 ||
-                        c.numRows[BTOCL_ROWS_JOINT] != 0)
-                        throw btOpenCLSolverError(
-                            "btOpenCLConstraintSolver: a constraint with rows the lanes do not solve was laid out in "
-                            "lanes");
-                    out.laneInts[ints + BTOCL_LANE_BODY_A * W + i] = c.bodyA;
-                    out.laneInts[ints + BTOCL_LANE_BODY_B * W + i] = c.bodyB;
-                    out.laneInts[ints + BTOCL_LANE_POINTS * W + i] = points;
-                    out.laneInts[ints + BTOCL_LANE_FIRST_POINT * W + i] = c.firstRow[BTOCL_ROWS_NORMAL];
-                    out.laneConstraint.push_back(ci);
-                    const int lane = int(i);
-                    for (int k = 0; k < points; ++k)
-                        out.rowMap[std::size_t(c.firstRow[BTOCL_ROWS_NORMAL] + k)] = (normalBlocks + k) * lanes + lane;
-                    for (int k = 0; k < points * frictionPerPoint; ++k)
-                        out.rowMap[std::size_t(c.firstRow[BTOCL_ROWS_FRICTION] + k)] = (frictionBlocks + k) * lanes + lane;
-                    slot.normalBlocks = std::max(slot.normalBlocks, points);
-                    out.usedLanes += 1;
-                    out.usedRowPlaces += points * (1 + frictionPerPoint);
-                }
-                slot.frictionBlocks = slot.normalBlocks * frictionPerPoint;
-                normalBlocks += slot.normalBlocks;
-                frictionBlocks += slot.frictionBlocks;
-                out.slots.push_back(slot);
-            }
+            bundleGroups.assign(cursors.begin() + bundleFirst[std::size_t(b)], cursors.begin() + bundleFirst[std::size_t(b) + 1]);
+            bundleGroups.erase(std::remove_if(bundleGroups.begin(), bundleGroups.end(),
+                                              [](const GroupCursor& g) { return g.count == 0; }),
+                               bundleGroups.end());
+            const int firstSlot = int(out.slots.size());
+            scheduleBundle(bundleGroups, lanes, writer, byPoints, taken);
+            out.bundles.push_back(btoclGroup{firstSlot, int(out.slots.size()) - firstSlot, 1, -1});
         }
     }
     out.setBundleStart[BTOCL_NUM_SETS + 1] = int(out.bundles.size());
+    const int normalBlocks = writer.normalBlocks();
     // The friction region after every normal block.
     for (btoclLaneSlot& slot : out.slots) slot.frictionBlock += normalBlocks;
     const int frictionShift = normalBlocks * lanes;
     for (int r = regions.start[BTOCL_ROWS_FRICTION]; r < regions.start[BTOCL_ROWS_ROLLING]; ++r) {
         out.rowMap[std::size_t(r)] += frictionShift;
     }
-    out.numBlocks = normalBlocks + frictionBlocks;
+    out.numBlocks = normalBlocks + writer.frictionBlocks();
 }
 
 std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
@@ -189,30 +292,32 @@ std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
     std::vector<int> seen(constraints.size(), 0);
     std::vector<int> rowOwner(std::size_t(l.numBlocks) * std::size_t(W), -1);
     std::vector<int> bodies;
+    // Per group: its bundle, the slot of its constraint last seen, the position of its next.
+    const std::size_t numGroups = split.groups.size();
+    std::vector<int> bundleOfGroup(numGroups, -1), lastSlotOfGroup(numGroups, -1), nextPosition(numGroups, 0);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         for (int bi = l.setBundleStart[std::size_t(set)]; bi < l.setBundleStart[std::size_t(set) + 1]; ++bi) {
             const btoclGroup& bundle = l.bundles[std::size_t(bi)];
             if (bundle.offset < 0 || bundle.offset + bundle.count > int(numSlots)) return "a bundle past the slots";
-            for (int i = 0; i < W; ++i) {
-                int lastGroup = -1, lastPosition = -1;
-                for (int t = 0; t < bundle.count; ++t) {
-                    const std::size_t slot = std::size_t(bundle.offset + t);
+            for (int t = 0; t < bundle.count; ++t) {
+                const std::size_t slot = std::size_t(bundle.offset + t);
+                const int* ints = l.laneInts.data() + slot * BTOCL_LANE_INTS * std::size_t(W);
+                for (int i = 0; i < W; ++i) {
                     const int ci = l.laneConstraint[slot * std::size_t(W) + std::size_t(i)];
-                    const int* ints = l.laneInts.data() + slot * BTOCL_LANE_INTS * std::size_t(W);
                     if (ci < 0) {
                         if (ints[BTOCL_LANE_POINTS * W + i] != 0) return "an unused lane holds rows";
-                        lastGroup = split.setGroupStart[BTOCL_NUM_SETS + 1];  // nothing may follow
                         continue;
                     }
                     const btoclConstraint& c = constraints[std::size_t(ci)];
                     seen[std::size_t(ci)] += 1;
                     if (setOf[std::size_t(ci)] != set) return "a lane holds a constraint of another set";
-                    const int g = groupOf[std::size_t(ci)], k = positionOf[std::size_t(ci)];
-                    const bool next = g == lastGroup ? k == lastPosition + 1 : g > lastGroup && k == 0 &&
-                                      (lastGroup < 0 || lastPosition == split.groups[std::size_t(lastGroup)].count - 1);
-                    if (!next) return "a lane does not walk whole groups in their order";
-                    lastGroup = g;
-                    lastPosition = k;
+                    const std::size_t g = std::size_t(groupOf[std::size_t(ci)]);
+                    if (bundleOfGroup[g] < 0) bundleOfGroup[g] = bi;
+                    if (bundleOfGroup[g] != bi) return "a group in two bundles";
+                    if (lastSlotOfGroup[g] == int(slot)) return "a group twice in a slot";
+                    if (positionOf[std::size_t(ci)] != nextPosition[g]) return "a group's constraints out of its order";
+                    lastSlotOfGroup[g] = int(slot);
+                    nextPosition[g] += 1;
                     if (ints[BTOCL_LANE_BODY_A * W + i] != c.bodyA || ints[BTOCL_LANE_BODY_B * W + i] != c.bodyB ||
                         ints[BTOCL_LANE_POINTS * W + i] != c.numRows[BTOCL_ROWS_NORMAL] ||
                         ints[BTOCL_LANE_FIRST_POINT * W + i] != c.firstRow[BTOCL_ROWS_NORMAL])

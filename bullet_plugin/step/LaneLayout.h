@@ -1,10 +1,10 @@
 // A split step laid out for its groups to be solved in lanes (a CPU's vector unit; kernels/
 // lane_solve.h, docs/architecture.md "Lanes"). Groups of one set share no dynamic body, so each
-// set's groups are dealt to W x B lanes in B bundles, each lane a run of groups of about the
-// same number of constraints (the largest group first, to the shortest run); at each slot of a
-// bundle lane i holds the next constraint of its run. The lanes of a slot never share a dynamic
-// body, and each lane walks its groups in the split's order, so each constraint meets its bodies
-// as in the one-lane walk.
+// set's groups are dealt to B bundles of W lanes (the largest group first, to the bundle with the
+// fewest constraints), and each slot of a bundle takes the next constraints of up to W of its
+// groups, one a group, chosen so that the slot's lanes have about as many points (a slot's blocks
+// are its most points). A group's constraints go in its order, so each constraint meets its
+// bodies as in the one-lane walk: the same bits.
 #pragma once
 
 #include "BatchLayout.h"
