@@ -1,6 +1,6 @@
 // A split step solved in SIMD lanes (btOpenCLSolverConfig::simdLanes; kernels/lane_solve.h,
-// step/LaneLayout.h): each lane walks a run of groups as one work-item walks a group, so a step
-// in lanes must end to the bit where the one-lane walk ends; steps the lanes do not take walk one
+// step/LaneLayout.h): each group's constraints go through the lanes in its order, as one
+// work-item walks the group, so a step in lanes must end to the bit where the one-lane walk ends; steps the lanes do not take walk one
 // group a work-item; the lane layout keeps its invariants, and its validator finds a broken one.
 #include "BulletConversions.h"
 #include "GatherAndSolve.h"
