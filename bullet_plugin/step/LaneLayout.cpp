@@ -34,9 +34,10 @@ bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint) {
 
 namespace {
 
-// A group of a bundle as the slots take it: its next constraint and that constraint's points.
+// A group of a bundle as the slots take it: its first place in the solve order, its next
+// constraint's position in it.
 struct GroupCursor {
-    int group, position, count, headPoints;
+    int offset, position, count;
     int remaining() const { return count - position; }
 };
 
@@ -52,7 +53,7 @@ public:
     // loop of independent loads waits on the scattered records far less than the slots, whose
     // choices wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
     SlotWriter(const BatchLayout& split, const btoclConstraint* constraints, int frictionPerPoint, LaneLayout& out)
-        : m_split(split), m_perPoint(frictionPerPoint), m_out(out) {
+        : m_perPoint(frictionPerPoint), m_out(out) {
         m_records.resize(split.solveOrder.size());
         parallelFor(m_records.size(), [&](std::size_t k) {
             const int ci = split.solveOrder[k];
@@ -91,7 +92,6 @@ public:
                 prefetch(m_out.rowMap.data() + ahead.firstFriction);
             }
             const LaneRecord& c = recordOf(g, g.position++);
-            if (g.position < g.count) g.headPoints = pointsOf(g);
             m_out.laneInts[ints + BTOCL_LANE_BODY_A * W + i] = c.bodyA;
             m_out.laneInts[ints + BTOCL_LANE_BODY_B * W + i] = c.bodyB;
             m_out.laneInts[ints + BTOCL_LANE_POINTS * W + i] = c.points;
@@ -117,48 +117,48 @@ public:
 
 private:
     const LaneRecord& recordOf(const GroupCursor& g, int position) const {
-        return m_records[std::size_t(m_split.groups[std::size_t(g.group)].offset + position)];
+        return m_records[std::size_t(g.offset + position)];
     }
 
-    const BatchLayout& m_split;
     int m_perPoint;
     LaneLayout& m_out;
     std::vector<LaneRecord> m_records;
     int m_normalBlocks = 0, m_frictionBlocks = 0;  // friction blocks counted from the friction region's start
 };
 
-// A bundle's slots from its groups (in the split's order). A slot's blocks are its lanes' most
+// A bundle's slots from its groups [first, end) (in the split's order). A slot's blocks are its lanes' most
 // points, so each slot takes the groups whose next constraints have about as many points: of
 // the blocks P it could have, the one that places the most rows a block (a slot's bodies cost
 // about kSlotBlocks blocks more). A group that has as many constraints left as the bundle has
 // slots left to its length (its total over W, or its longest group) goes first, so the bundle
 // ends near that length.
-void scheduleBundle(std::vector<GroupCursor>& groups, int lanes, SlotWriter& writer,
-                    std::vector<std::vector<GroupCursor*>>& byPoints, std::vector<GroupCursor*>& taken) {
+void scheduleBundle(GroupCursor* first, GroupCursor* end, int lanes, SlotWriter& writer,
+                    std::vector<GroupCursor*>& active, std::vector<std::vector<GroupCursor*>>& byPoints,
+                    std::vector<GroupCursor*>& taken) {
     constexpr double kSlotBlocks = 1.0;
     long long total = 0;
     int longest = 0;
-    for (GroupCursor& g : groups) {
-        total += g.count;
-        longest = std::max(longest, g.count);
-        g.headPoints = writer.pointsOf(g);
+    active.clear();
+    for (GroupCursor* g = first; g != end; ++g) {
+        total += g->count;
+        longest = std::max(longest, g->count);
+        if (g->count > 0) active.push_back(g);
     }
     const long long length = std::max<long long>(longest, (total + lanes - 1) / lanes);
-    std::vector<GroupCursor*> active;
-    for (GroupCursor& g : groups) active.push_back(&g);
     for (long long slot = 0; !active.empty(); ++slot) {
         const long long slotsLeft = std::max<long long>(1, length - slot);
         taken.clear();
         for (auto& list : byPoints) list.clear();
         int firstPoints = 0, takenRows = 0;
         for (GroupCursor* g : active) {
+            const int points = writer.pointsOf(*g);
             if (g->remaining() >= slotsLeft && int(taken.size()) < lanes) {
                 taken.push_back(g);
-                firstPoints = std::max(firstPoints, g->headPoints);
-                takenRows += g->headPoints;
+                firstPoints = std::max(firstPoints, points);
+                takenRows += points;
             } else {
-                if (std::size_t(g->headPoints) >= byPoints.size()) byPoints.resize(std::size_t(g->headPoints) + 1);
-                byPoints[std::size_t(g->headPoints)].push_back(g);
+                if (std::size_t(points) >= byPoints.size()) byPoints.resize(std::size_t(points) + 1);
+                byPoints[std::size_t(points)].push_back(g);
             }
         }
         // The slot's blocks: the most rows a block, counting the slot's bodies.
@@ -211,7 +211,7 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     std::vector<std::pair<long long, int>> shortest;
     std::vector<GroupCursor> cursors;
     std::vector<std::vector<GroupCursor*>> byPoints;  // by their next constraint's points
-    std::vector<GroupCursor*> taken;
+    std::vector<GroupCursor*> active, taken;
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         out.setBundleStart[std::size_t(set)] = int(out.bundles.size());
         const int firstGroup = split.setGroupStart[std::size_t(set)];
@@ -248,16 +248,13 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
             std::vector<int> fill(bundleFirst.begin(), bundleFirst.end() - 1);
             for (int k = 0; k < numGroups; ++k)
                 cursors[std::size_t(fill[std::size_t(bundleOf[std::size_t(k)])]++)] =
-                    GroupCursor{firstGroup + k, 0, split.groups[std::size_t(firstGroup + k)].count, 0};
+                    GroupCursor{split.groups[std::size_t(firstGroup + k)].offset, 0,
+                                split.groups[std::size_t(firstGroup + k)].count};
         }
-        std::vector<GroupCursor> bundleGroups;
         for (int b = 0; b < numBundles; ++b) {
-            bundleGroups.assign(cursors.begin() + bundleFirst[std::size_t(b)], cursors.begin() + bundleFirst[std::size_t(b) + 1]);
-            bundleGroups.erase(std::remove_if(bundleGroups.begin(), bundleGroups.end(),
-                                              [](const GroupCursor& g) { return g.count == 0; }),
-                               bundleGroups.end());
             const int firstSlot = int(out.slots.size());
-            scheduleBundle(bundleGroups, lanes, writer, byPoints, taken);
+            scheduleBundle(cursors.data() + bundleFirst[std::size_t(b)], cursors.data() + bundleFirst[std::size_t(b) + 1],
+                           lanes, writer, active, byPoints, taken);
             out.bundles.push_back(btoclGroup{firstSlot, int(out.slots.size()) - firstSlot, 1, -1});
         }
     }
