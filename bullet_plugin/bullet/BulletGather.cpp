@@ -233,6 +233,7 @@ bool StepGatherer::canMove(const ManifoldSlot& slot) const {
 // points are checked as they are packed.
 void StepGatherer::countPoints(size_t m) {
     ManifoldSlot& slot = m_slots[m];
+    slot = ManifoldSlot{};  // every slot is written here, in parallel: no serial clearing pass
     const btPersistentManifold& manifold = *m_manifolds[m];
     // Its bodies are named even without a point, as SI names them.
     slot.bodyA = knownBodyOf(manifold.getBody0());
@@ -322,7 +323,6 @@ void StepGatherer::packManifolds() {
     // Sized with room to spare: a scene's manifolds grow for many steps, and each exact-fit
     // regrowth is fresh memory, which costs page faults.
     resizeForOverwrite(m_slots, numManifolds);
-    std::fill(m_slots.begin(), m_slots.end(), ManifoldSlot{});
     parallelFor(numManifolds, [&](size_t m) {
         if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
         if (m + kPrefetchAhead < numManifolds) prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
