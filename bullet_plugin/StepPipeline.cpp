@@ -16,6 +16,9 @@ namespace {
 // How long the host's threads wait awake for a host split step's row loop: the split before it
 // takes some tens of microseconds; a thread still waiting after this sleeps again.
 constexpr std::chrono::microseconds kHostSplitPrewake{500};
+// How long at most the host's threads wait awake for the host's loops of a device step (the
+// split, the lanes' layout and rows): a dense block's take some milliseconds between them.
+constexpr std::chrono::milliseconds kHostWorkPrewake{50};
 // A lane layout whose row places are filled less than this is solved one lane a group instead:
 // pile 1,000's (0.43) was no faster in lanes, block's, columns' and the 3D pyramid's (0.68 to
 // 0.76) were (docs/performance.md, "Lanes set up by the host").
@@ -148,7 +151,6 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
 
 void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
                                  btOpenCLSolverStats& s) {
-    restHostThreads();  // the device's threads take the cores now
     checkStepFitsDevice(countsOf(p), m_limits);
 
     m_runtime.clearPhases();
@@ -162,6 +164,13 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
     // local batches on the device, from the constraints just uploaded.
     double msHostSplit = 0;
     const bool hostSplit = splitsOnHost(m_plan, p, step);
+    // The host's loops before the device starts (the split, the lanes' layout and rows) have the
+    // cores to themselves while the queue is held: the pool waits awake for them, and rests once
+    // the step is handed over (iterateAndDownload).
+    if (hostSplit && !m_plan.wide())
+        prewakeHostThreads(kHostWorkPrewake);
+    else
+        restHostThreads();  // the device's threads take the cores now
     if (hostSplit) {
         const auto t0 = std::chrono::steady_clock::now();
         splitHostInto(p.constraints.data(), p.constraints.size(), p.splitBodies, splitParamsOf(m_config), true,
@@ -225,6 +234,7 @@ void StepPipeline::solveSplit(StepProblem& p, const StepPlan& step, const SolveS
 // The passes and the step's one wait, once the rows are set up; the device's phases to the stats.
 void StepPipeline::iterateAndDownload(StepProblem& p, const StepPlan& step, const DeviceLayoutView& view,
                                       const SolveSettings& settings, btOpenCLSolverStats& s) {
+    restHostThreads();  // the device's threads take the cores now
     m_runtime.beginPhase(DevicePhase::Solve);
     m_solve.iterate(p, step, view, settings);
     m_runtime.beginPhase(DevicePhase::Download);

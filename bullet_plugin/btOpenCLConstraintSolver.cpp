@@ -61,6 +61,7 @@ struct btOpenCLConstraintSolver::Impl {
     // bodies gathered so far released, the step and its bracket over.
     void abandonStep() {
         pipeline.runtime().drain();
+        btocl::restHostThreads();  // a step's pre-wake ends with it
         if (gathering) gatherer.releaseBodies();
         gathering = false;
         inStep = false;

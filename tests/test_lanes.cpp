@@ -10,6 +10,7 @@
 #include "LaneVectors.h"
 #include "HostSplit.h"
 #include "LaneLayout.h"
+#include "ParallelFrom.h"
 #include "Scenes.h"
 #include "ScopedEnv.h"
 #include "TestWorld.h"
@@ -146,6 +147,36 @@ TEST_CASE("the lane layout keeps its invariants, and its validator finds a broke
     CHECK(layout.usedLanes == long(p.constraints.size()));
     CHECK(layout.usedRowPlaces == p.numRows());
     CHECK(layout.laneFill() > 0.5);  // several groups a lane even the lanes out
+
+    // The bundles are scheduled and written on the host's threads: the layout is the one a single
+    // thread makes, into fresh arrays or into arrays that held another layout.
+    {
+        LaneLayout serial, reused;
+        {
+            test::ParallelFrom never(size_t(1) << 40);
+            layOutLanes(split, p.constraints.data(), p.regions, lanes, 1, minBundles, serial);
+        }
+        test::ParallelFrom always(1);
+        layOutLanes(split, p.constraints.data(), p.regions, lanes == 4 ? 8 : 4, 1, 1, reused);
+        layOutLanes(split, p.constraints.data(), p.regions, lanes, 1, minBundles, reused);
+        for (const LaneLayout* l : {&layout, &reused}) {
+            CHECK(l->bundles.size() == serial.bundles.size());
+            for (size_t b = 0; b < std::min(l->bundles.size(), serial.bundles.size()); ++b) {
+                CHECK(l->bundles[b].offset == serial.bundles[b].offset);
+                CHECK(l->bundles[b].count == serial.bundles[b].count);
+            }
+            CHECK(l->setBundleStart == serial.setBundleStart);
+            CHECK(std::memcmp(l->slots.data(), serial.slots.data(),
+                              std::min(l->slots.size(), serial.slots.size()) * sizeof(btoclLaneSlot)) == 0);
+            CHECK(l->slots.size() == serial.slots.size());
+            CHECK(l->laneInts == serial.laneInts);
+            CHECK(l->laneConstraint == serial.laneConstraint);
+            CHECK(l->rowMap == serial.rowMap);
+            CHECK(l->numBlocks == serial.numBlocks);
+            CHECK(l->usedRowPlaces == serial.usedRowPlaces);
+        }
+        REQUIRE(serial.bundles.size() > 2);  // bundles enough to be shared out
+    }
 
     // Mutations of the layout, and of a slot whose first two lanes hold constraints.
     size_t slot = 0;

@@ -46,112 +46,65 @@ struct LaneRecord {
     int constraint, bodyA, bodyB, points, firstNormal, firstFriction;
 };
 
-// Writes the slots of the layout.
-class SlotWriter {
-public:
-    // The constraints' records by solve order, read ahead of the slots on the host's threads: a
-    // loop of independent loads waits on the scattered records far less than the slots, whose
-    // choices wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
-    SlotWriter(const BatchLayout& split, const btoclConstraint* constraints, int frictionPerPoint, LaneLayout& out)
-        : m_perPoint(frictionPerPoint), m_out(out) {
-        m_records.resize(split.solveOrder.size());
-        parallelFor(m_records.size(), [&](std::size_t k) {
-            const int ci = split.solveOrder[k];
-            const btoclConstraint& c = constraints[ci];
-            const int points = c.numRows[BTOCL_ROWS_NORMAL];
-            if (c.numRows[BTOCL_ROWS_FRICTION] != frictionPerPoint * points || c.numRows[BTOCL_ROWS_ROLLING] != 0 ||
-                c.numRows[BTOCL_ROWS_JOINT] != 0)
-                throw btOpenCLSolverError(
-                    "btOpenCLConstraintSolver: a constraint with rows the lanes do not solve was laid out in lanes");
-            m_records[k] = LaneRecord{ci, c.bodyA, c.bodyB, points, c.firstRow[BTOCL_ROWS_NORMAL],
-                                      c.firstRow[BTOCL_ROWS_FRICTION]};
-        }, kManifoldWeight);
-    }
+// The constraints' records by solve order, read ahead of the slots on the host's threads: a loop
+// of independent loads waits on the scattered records far less than the slots, whose choices
+// wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
+void readLaneRecords(const BatchLayout& split, const btoclConstraint* constraints, int frictionPerPoint,
+                     std::vector<LaneRecord>& records) {
+    records.resize(split.solveOrder.size());
+    parallelFor(records.size(), [&](std::size_t k) {
+        const int ci = split.solveOrder[k];
+        const btoclConstraint& c = constraints[ci];
+        const int points = c.numRows[BTOCL_ROWS_NORMAL];
+        if (c.numRows[BTOCL_ROWS_FRICTION] != frictionPerPoint * points || c.numRows[BTOCL_ROWS_ROLLING] != 0 ||
+            c.numRows[BTOCL_ROWS_JOINT] != 0)
+            throw btOpenCLSolverError(
+                "btOpenCLConstraintSolver: a constraint with rows the lanes do not solve was laid out in lanes");
+        records[k] = LaneRecord{ci, c.bodyA, c.bodyB, points, c.firstRow[BTOCL_ROWS_NORMAL],
+                                c.firstRow[BTOCL_ROWS_FRICTION]};
+    }, kManifoldWeight);
+}
 
-    int pointsOf(const GroupCursor& g) const { return recordOf(g, g.position).points; }
-
-    // One slot of the lanes' groups' next constraints, in lane order; each group moves on.
-    void write(GroupCursor* const* lanes, int taken) {
-        const std::size_t W = std::size_t(m_out.lanes);
-        btoclLaneSlot slot{m_normalBlocks, 0, m_frictionBlocks, 0};
-        const std::size_t ints = m_out.laneInts.size();
-        m_out.laneInts.resize(ints + BTOCL_LANE_INTS * W, 0);
-        for (std::size_t i = 0; i < W; ++i) {
-            if (int(i) >= taken) {
-                m_out.laneConstraint.push_back(-1);
-                continue;
-            }
-            GroupCursor& g = *lanes[i];
-            // Rows lie in gather order, placed here in solve order: the row map's entries of the
-            // group's constraint a few slots ahead asked for (a group's first few wait), and
-            // its record twice as far ahead.
-            if (g.position + 2 * kPrefetchAhead < g.count) prefetch(&recordOf(g, g.position + 2 * kPrefetchAhead));
-            if (g.position + kPrefetchAhead < g.count) {
-                const LaneRecord& ahead = recordOf(g, g.position + kPrefetchAhead);
-                prefetch(m_out.rowMap.data() + ahead.firstNormal);
-                prefetch(m_out.rowMap.data() + ahead.firstFriction);
-            }
-            const LaneRecord& c = recordOf(g, g.position++);
-            m_out.laneInts[ints + BTOCL_LANE_BODY_A * W + i] = c.bodyA;
-            m_out.laneInts[ints + BTOCL_LANE_BODY_B * W + i] = c.bodyB;
-            m_out.laneInts[ints + BTOCL_LANE_POINTS * W + i] = c.points;
-            m_out.laneInts[ints + BTOCL_LANE_FIRST_POINT * W + i] = c.firstNormal;
-            m_out.laneConstraint.push_back(c.constraint);
-            const int lanesW = m_out.lanes, lane = int(i);
-            for (int k = 0; k < c.points; ++k)
-                m_out.rowMap[std::size_t(c.firstNormal + k)] = (m_normalBlocks + k) * lanesW + lane;
-            for (int k = 0; k < c.points * m_perPoint; ++k)
-                m_out.rowMap[std::size_t(c.firstFriction + k)] = (m_frictionBlocks + k) * lanesW + lane;
-            slot.normalBlocks = std::max(slot.normalBlocks, c.points);
-            m_out.usedLanes += 1;
-            m_out.usedRowPlaces += c.points * (1 + m_perPoint);
-        }
-        slot.frictionBlocks = slot.normalBlocks * m_perPoint;
-        m_normalBlocks += slot.normalBlocks;
-        m_frictionBlocks += slot.frictionBlocks;
-        m_out.slots.push_back(slot);
-    }
-
-    int normalBlocks() const { return m_normalBlocks; }
-    int frictionBlocks() const { return m_frictionBlocks; }
-
-private:
-    const LaneRecord& recordOf(const GroupCursor& g, int position) const {
-        return m_records[std::size_t(g.offset + position)];
-    }
-
-    int m_perPoint;
-    LaneLayout& m_out;
-    std::vector<LaneRecord> m_records;
-    int m_normalBlocks = 0, m_frictionBlocks = 0;  // friction blocks counted from the friction region's start
+// One bundle: its groups' cursors, then its slots as scheduleBundle chose them (each slot's W
+// lanes as places in the solve order, -1 where empty, and its normal blocks), then where its
+// slots and blocks begin in the layout. Bundles are scheduled apart and written apart, in
+// parallel; only the running counts between them are serial.
+struct BundlePlan {
+    int firstCursor = 0, endCursor = 0;
+    std::vector<int> lanes;
+    std::vector<int> normalBlocks;
+    int firstSlot = 0, firstNormalBlock = 0;
 };
 
-// A bundle's slots from its groups [first, end) (in the split's order). A slot's blocks are its lanes' most
+// A bundle's slots from its groups (in the split's order). A slot's blocks are its lanes' most
 // points, so each slot takes the groups whose next constraints have about as many points: of
 // the blocks P it could have, the one that places the most rows a block (a slot's bodies cost
 // about kSlotBlocks blocks more). A group that has as many constraints left as the bundle has
 // slots left to its length (its total over W, or its longest group) goes first, so the bundle
 // ends near that length.
-void scheduleBundle(GroupCursor* first, GroupCursor* end, int lanes, SlotWriter& writer,
-                    std::vector<GroupCursor*>& active, std::vector<std::vector<GroupCursor*>>& byPoints,
-                    std::vector<GroupCursor*>& taken) {
+void scheduleBundle(GroupCursor* first, GroupCursor* end, int lanes, const std::vector<LaneRecord>& records,
+                    BundlePlan& plan) {
     constexpr double kSlotBlocks = 1.0;
+    const auto pointsOf = [&](const GroupCursor& g) { return records[std::size_t(g.offset + g.position)].points; };
+    std::vector<GroupCursor*> active, taken;
+    std::vector<std::vector<GroupCursor*>> byPoints;  // by their next constraint's points
     long long total = 0;
     int longest = 0;
-    active.clear();
     for (GroupCursor* g = first; g != end; ++g) {
         total += g->count;
         longest = std::max(longest, g->count);
         if (g->count > 0) active.push_back(g);
     }
     const long long length = std::max<long long>(longest, (total + lanes - 1) / lanes);
+    plan.lanes.clear();
+    plan.normalBlocks.clear();
     for (long long slot = 0; !active.empty(); ++slot) {
         const long long slotsLeft = std::max<long long>(1, length - slot);
         taken.clear();
         for (auto& list : byPoints) list.clear();
         int firstPoints = 0, takenRows = 0;
         for (GroupCursor* g : active) {
-            const int points = writer.pointsOf(*g);
+            const int points = pointsOf(*g);
             if (g->remaining() >= slotsLeft && int(taken.size()) < lanes) {
                 taken.push_back(g);
                 firstPoints = std::max(firstPoints, points);
@@ -185,10 +138,71 @@ void scheduleBundle(GroupCursor* first, GroupCursor* end, int lanes, SlotWriter&
                     taken.push_back(g);
                 }
         }
-        writer.write(taken.data(), int(taken.size()));
+        // The lanes in the order taken; each group moves on to its next constraint.
+        int blocks = 0;
+        for (int i = 0; i < lanes; ++i) {
+            if (i >= int(taken.size())) {
+                plan.lanes.push_back(-1);
+                continue;
+            }
+            GroupCursor& g = *taken[std::size_t(i)];
+            blocks = std::max(blocks, pointsOf(g));
+            plan.lanes.push_back(g.offset + g.position++);
+        }
+        plan.normalBlocks.push_back(blocks);
         active.erase(std::remove_if(active.begin(), active.end(), [](const GroupCursor* g) { return g->remaining() == 0; }),
                      active.end());
     }
+}
+
+// A scheduled bundle's slots written at its places: the slots, their lanes' ints and
+// constraints, and its rows' places in the row map (rows lie in gather order, written here in
+// solve order: each lane's row-map entries asked for a few slots ahead, as a group's first few
+// wait on them). normalTotal: every bundle's normal blocks, before which no friction block lies.
+// Returns the lanes and row places the bundle fills.
+std::pair<long long, long long> writeBundle(const BundlePlan& plan, const std::vector<LaneRecord>& records,
+                                            int normalTotal, LaneLayout& out) {
+    const int W = out.lanes, perPoint = out.frictionPerPoint;
+    const std::size_t numSlots = plan.normalBlocks.size();
+    long long usedLanes = 0, usedRows = 0;
+    int normalBlock = plan.firstNormalBlock;
+    for (std::size_t t = 0; t < numSlots; ++t) {
+        const std::size_t slotIndex = std::size_t(plan.firstSlot) + t;
+        const int frictionBlock = normalTotal + normalBlock * perPoint;
+        const int blocks = plan.normalBlocks[t];
+        out.slots[slotIndex] = btoclLaneSlot{normalBlock, blocks, frictionBlock, blocks * perPoint};
+        int* ints = out.laneInts.data() + slotIndex * BTOCL_LANE_INTS * std::size_t(W);
+        std::fill(ints, ints + BTOCL_LANE_INTS * W, 0);
+        for (int i = 0; i < W; ++i) {
+            const std::size_t at = t * std::size_t(W) + std::size_t(i);
+            const int k = plan.lanes[at];
+            if (k < 0) {
+                out.laneConstraint[slotIndex * std::size_t(W) + std::size_t(i)] = -1;
+                continue;
+            }
+            if (at + kPrefetchAhead * std::size_t(W) < plan.lanes.size()) {
+                const int ahead = plan.lanes[at + kPrefetchAhead * std::size_t(W)];
+                if (ahead >= 0) {
+                    prefetch(out.rowMap.data() + records[std::size_t(ahead)].firstNormal);
+                    prefetch(out.rowMap.data() + records[std::size_t(ahead)].firstFriction);
+                }
+            }
+            const LaneRecord& c = records[std::size_t(k)];
+            ints[BTOCL_LANE_BODY_A * W + i] = c.bodyA;
+            ints[BTOCL_LANE_BODY_B * W + i] = c.bodyB;
+            ints[BTOCL_LANE_POINTS * W + i] = c.points;
+            ints[BTOCL_LANE_FIRST_POINT * W + i] = c.firstNormal;
+            out.laneConstraint[slotIndex * std::size_t(W) + std::size_t(i)] = c.constraint;
+            for (int r = 0; r < c.points; ++r)
+                out.rowMap[std::size_t(c.firstNormal + r)] = (normalBlock + r) * W + i;
+            for (int r = 0; r < c.points * perPoint; ++r)
+                out.rowMap[std::size_t(c.firstFriction + r)] = (frictionBlock + r) * W + i;
+            usedLanes += 1;
+            usedRows += c.points * (1 + perPoint);
+        }
+        normalBlock += blocks;
+    }
+    return {usedLanes, usedRows};
 }
 
 }  // namespace
@@ -199,21 +213,16 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout needs 2 lanes or more and a serial split");
     out.lanes = lanes;
     out.frictionPerPoint = frictionPerPoint;
-    out.bundles.clear();
-    out.slots.clear();
-    out.laneInts.clear();
-    out.laneConstraint.clear();
-    out.rowMap.assign(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]), -1);
-    out.usedLanes = 0;
-    out.usedRowPlaces = 0;
-    SlotWriter writer(split, constraints, frictionPerPoint, out);
+    std::vector<LaneRecord> records;
+    readLaneRecords(split, constraints, frictionPerPoint, records);
+
+    // Each set's groups dealt to its bundles, serially (a sort and a heap a set).
     std::vector<int> order, bundleOf, bundleFirst;
     std::vector<std::pair<long long, int>> shortest;
     std::vector<GroupCursor> cursors;
-    std::vector<std::vector<GroupCursor*>> byPoints;  // by their next constraint's points
-    std::vector<GroupCursor*> active, taken;
+    std::vector<BundlePlan> plans;
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
-        out.setBundleStart[std::size_t(set)] = int(out.bundles.size());
+        out.setBundleStart[std::size_t(set)] = int(plans.size());
         const int firstGroup = split.setGroupStart[std::size_t(set)];
         const int groupEnd = split.setGroupStart[std::size_t(set) + 1];
         const int numGroups = groupEnd - firstGroup;
@@ -240,33 +249,55 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
             std::push_heap(shortest.begin(), shortest.end(), std::greater<>());
         }
         // Each bundle's groups in the split's order (a counting sort by bundle).
+        const int base = int(cursors.size());
         bundleFirst.assign(std::size_t(numBundles) + 1, 0);
         for (int k = 0; k < numGroups; ++k) ++bundleFirst[std::size_t(bundleOf[std::size_t(k)]) + 1];
         for (int b = 0; b < numBundles; ++b) bundleFirst[std::size_t(b) + 1] += bundleFirst[std::size_t(b)];
-        cursors.resize(std::size_t(numGroups));
-        {
-            std::vector<int> fill(bundleFirst.begin(), bundleFirst.end() - 1);
-            for (int k = 0; k < numGroups; ++k)
-                cursors[std::size_t(fill[std::size_t(bundleOf[std::size_t(k)])]++)] =
-                    GroupCursor{split.groups[std::size_t(firstGroup + k)].offset, 0,
-                                split.groups[std::size_t(firstGroup + k)].count};
+        cursors.resize(std::size_t(base + numGroups));
+        std::vector<int> fill(bundleFirst.begin(), bundleFirst.end() - 1);
+        for (int k = 0; k < numGroups; ++k) {
+            const btoclGroup& g = split.groups[std::size_t(firstGroup + k)];
+            cursors[std::size_t(base + fill[std::size_t(bundleOf[std::size_t(k)])]++)] = GroupCursor{g.offset, 0, g.count};
         }
         for (int b = 0; b < numBundles; ++b) {
-            const int firstSlot = int(out.slots.size());
-            scheduleBundle(cursors.data() + bundleFirst[std::size_t(b)], cursors.data() + bundleFirst[std::size_t(b) + 1],
-                           lanes, writer, active, byPoints, taken);
-            out.bundles.push_back(btoclGroup{firstSlot, int(out.slots.size()) - firstSlot, 1, -1});
+            plans.emplace_back();
+            plans.back().firstCursor = base + bundleFirst[std::size_t(b)];
+            plans.back().endCursor = base + bundleFirst[std::size_t(b) + 1];
         }
     }
-    out.setBundleStart[BTOCL_NUM_SETS + 1] = int(out.bundles.size());
-    const int normalBlocks = writer.normalBlocks();
-    // The friction region after every normal block.
-    for (btoclLaneSlot& slot : out.slots) slot.frictionBlock += normalBlocks;
-    const int frictionShift = normalBlocks * lanes;
-    for (int r = regions.start[BTOCL_ROWS_FRICTION]; r < regions.start[BTOCL_ROWS_ROLLING]; ++r) {
-        out.rowMap[std::size_t(r)] += frictionShift;
+    out.setBundleStart[BTOCL_NUM_SETS + 1] = int(plans.size());
+
+    // Every bundle scheduled apart (its groups are its own), then placed after the ones before.
+    const std::size_t bundleWeight = kManifoldWeight * (records.size() / std::max<std::size_t>(1, plans.size()) + 1);
+    parallelFor(plans.size(), [&](std::size_t b) {
+        scheduleBundle(cursors.data() + plans[b].firstCursor, cursors.data() + plans[b].endCursor, lanes, records,
+                       plans[b]);
+    }, bundleWeight);
+    int numSlots = 0, normalTotal = 0;
+    out.bundles.resize(plans.size());
+    for (std::size_t b = 0; b < plans.size(); ++b) {
+        const int slots = int(plans[b].normalBlocks.size());
+        out.bundles[b] = btoclGroup{numSlots, slots, 1, -1};
+        plans[b].firstSlot = numSlots;
+        plans[b].firstNormalBlock = normalTotal;
+        numSlots += slots;
+        for (const int blocks : plans[b].normalBlocks) normalTotal += blocks;
     }
-    out.numBlocks = normalBlocks + writer.frictionBlocks();
+    out.slots.resize(std::size_t(numSlots));
+    out.laneInts.resize(std::size_t(numSlots) * BTOCL_LANE_INTS * std::size_t(lanes));
+    out.laneConstraint.resize(std::size_t(numSlots) * std::size_t(lanes));
+    // Every row is some constraint's, and each constraint is written once: no entry stays unset.
+    out.rowMap.resize(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]));
+    std::vector<std::pair<long long, long long>> used(plans.size());
+    parallelFor(plans.size(), [&](std::size_t b) { used[b] = writeBundle(plans[b], records, normalTotal, out); },
+                bundleWeight);
+    out.usedLanes = 0;
+    out.usedRowPlaces = 0;
+    for (const auto& u : used) {
+        out.usedLanes += u.first;
+        out.usedRowPlaces += u.second;
+    }
+    out.numBlocks = normalTotal * (1 + frictionPerPoint);
 }
 
 std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
