@@ -20,6 +20,7 @@ static_assert(HostLaneSolve::kLanes == W, "the lanes are LaneVectors.h's");
 struct LaneBodies {
     Lanes lpuX, lpuY, lpuZ, apuX, apuY, apuZ;
     Lanes linX, linY, linZ, angX, angY, angZ;
+    Lanes linW, angW;  // the deltas' w floats, stored back as they were
     Lanes dynamic;
 };
 
@@ -31,8 +32,8 @@ BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const flo
     // The velocities a pass changes: floats 0 to 7 of the body's delta, or 8 to 15 in the push pass.
     for (int i = 0; i < W; ++i) records[i] = reinterpret_cast<const float*>(deltas + body[i]) + (push ? 8 : 0);
     transpose8(records, v);
-    l.linX = v[0], l.linY = v[1], l.linZ = v[2];
-    l.angX = v[4], l.angY = v[5], l.angZ = v[6];
+    l.linX = v[0], l.linY = v[1], l.linZ = v[2], l.linW = v[3];
+    l.angX = v[4], l.angY = v[5], l.angZ = v[6], l.angW = v[7];
     // The warm start's scales: floats 0 to 7 of the body's; the other passes': 8 to 15.
     const int unitOffset = warmStart ? 0 : BTOCL_BODY_PER_UNIT_FLOATS / 2;
     for (int i = 0; i < W; ++i) records[i] = perUnit + size_t(body[i]) * BTOCL_BODY_PER_UNIT_FLOATS + unitOffset;
@@ -42,19 +43,16 @@ BTOCL_LANES_INLINE LaneBodies loadBodies(const btoclBodyDelta* deltas, const flo
     return l;
 }
 
-// Each dynamic lane's velocities back (others never change); lanes of a slot share no dynamic body.
+// Each dynamic lane's velocities back (others never change); lanes of a slot share no dynamic
+// body. Turned back into records, each stored whole (eight floats, its w floats as loaded): a
+// store a lane rather than six.
 BTOCL_LANES_INLINE void storeBodies(btoclBodyDelta* deltas, const int* body, int push, const LaneBodies& l) {
     const int offset = push ? 8 : 0;
-    for (int i = 0; i < W; ++i) {
-        if (l.dynamic[i] == 0.0f) continue;
-        float* d = reinterpret_cast<float*>(deltas + body[i]) + offset;
-        d[0] = l.linX[i];
-        d[1] = l.linY[i];
-        d[2] = l.linZ[i];
-        d[4] = l.angX[i];
-        d[5] = l.angY[i];
-        d[6] = l.angZ[i];
-    }
+    const Lanes v[8] = {l.linX, l.linY, l.linZ, l.linW, l.angX, l.angY, l.angZ, l.angW};
+    Lanes records[8];
+    transpose8(v, records);
+    for (int i = 0; i < W; ++i)
+        if (l.dynamic[i] != 0.0f) store(records[i], reinterpret_cast<float*>(deltas + body[i]) + offset);
 }
 
 #define ROW_FIELD(f) load(row + (f) * W)

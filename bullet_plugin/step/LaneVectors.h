@@ -48,11 +48,11 @@ BTOCL_LANES_INLINE void store(Lanes v, float* p) { std::memcpy(p, &v, sizeof v);
 // OpenCL's select(a, b, m): b where m is set, else a.
 BTOCL_LANES_INLINE Lanes select(Lanes a, Lanes b, LaneMask m) { return m ? b : a; }
 BTOCL_LANES_INLINE Lanes splat(float x) { return Lanes{} + x; }
-// Eight records of eight floats, the i-th at p[i], as eight vectors: out[f] holds float f of each
-// (lane i of record i). Shuffles only, so every float keeps its bits.
-BTOCL_LANES_INLINE void transpose8(const float* const* p, Lanes* out) {
+// An 8x8 transpose: out[f] holds float f of every in[i] (lane i of in[f] is float f of out[i]).
+// Shuffles only, so every float keeps its bits; its own inverse.
+BTOCL_LANES_INLINE void transpose8(const Lanes* in, Lanes* out) {
     __m256 r[8];
-    for (int i = 0; i < 8; ++i) r[i] = _mm256_loadu_ps(p[i]);
+    for (int i = 0; i < 8; ++i) r[i] = (__m256)in[i];
     __m256 t[8], u[8];
     for (int i = 0; i < 8; i += 2) {
         t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
@@ -68,6 +68,14 @@ BTOCL_LANES_INLINE void transpose8(const float* const* p, Lanes* out) {
         out[f] = (Lanes)_mm256_permute2f128_ps(u[f], u[f + 4], 0x20);
         out[f + 4] = (Lanes)_mm256_permute2f128_ps(u[f], u[f + 4], 0x31);
     }
+}
+
+// Eight records of eight floats, the i-th at p[i], as eight vectors: out[f] holds float f of each
+// (lane i of record i).
+BTOCL_LANES_INLINE void transpose8(const float* const* p, Lanes* out) {
+    Lanes r[8];
+    for (int i = 0; i < 8; ++i) r[i] = load(p[i]);
+    transpose8(r, out);
 }
 
 }  // namespace
