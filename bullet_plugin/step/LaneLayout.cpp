@@ -11,9 +11,6 @@
 namespace btocl {
 namespace {
 
-// A bundle takes about this many groups a lane where a set has enough: its slots have heads of
-// several groups to choose from, and fewer bundles leave fewer lanes empty.
-constexpr int kGroupsPerLane = 3;
 constexpr int kPrefetchAhead = 4;
 
 inline void prefetch(const void* p) {
@@ -208,7 +205,7 @@ std::pair<long long, long long> writeBundle(const BundlePlan& plan, const std::v
 }  // namespace
 
 void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
-                 int lanes, int frictionPerPoint, int minBundlesPerSet, LaneLayout& out) {
+                 int lanes, int frictionPerPoint, int bundlesPerSet, LaneLayout& out) {
     if (lanes < 2 || frictionPerPoint < 1 || !split.serialRuns)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout needs 2 lanes or more and a serial split");
     out.lanes = lanes;
@@ -228,8 +225,9 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         const int numGroups = groupEnd - firstGroup;
         if (numGroups == 0) continue;
         const int mostBundles = (numGroups + lanes - 1) / lanes;  // one group a lane at least
-        const int numBundles =
-            std::max(1, std::min(mostBundles, std::max(minBundlesPerSet, numGroups / (kGroupsPerLane * lanes))));
+        // A bundle a unit: the fewer the bundles, the more groups each slot chooses among, and the
+        // fuller its lanes (docs/performance.md, "A bundle a unit").
+        const int numBundles = std::max(1, std::min(mostBundles, bundlesPerSet));
         // The groups of a set share no dynamic body, so any bundle may take any of them: the
         // largest first, each to the bundle with the fewest constraints so far (the lowest where
         // they tie), so that the bundles end together.

@@ -50,12 +50,12 @@ struct LaneRows {
 bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
 
 // `split` (the serial path's: one run a group) laid out in `lanes` lanes into `out`, its arrays
-// reused, with at least `minBundlesPerSet` bundles a set where it has groups enough (one per
-// compute unit: the units claim bundles). Every constraint must have
+// reused, with `bundlesPerSet` bundles a set where it has groups enough for their lanes (one per
+// compute unit: the units claim bundles; one where a single thread walks them all). Every constraint must have
 // numRows[FRICTION] == frictionPerPoint * numRows[NORMAL] and no other rows (rowsFitLanes);
 // throws btOpenCLSolverError otherwise.
 void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
-                 int lanes, int frictionPerPoint, int minBundlesPerSet, LaneLayout& out);
+                 int lanes, int frictionPerPoint, int bundlesPerSet, LaneLayout& out);
 
 // The lane layout's invariants against its split: every constraint in one lane of one slot, each
 // group whole in one lane and in its order there, a lane's groups all of its bundle's set, no
