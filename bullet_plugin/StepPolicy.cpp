@@ -83,8 +83,9 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
 
 // The lanes solve every row of a step (kernels/lane_solve.h, HostLaneSolve.h): contact rows
 // alone, each point's friction rows after its normal row's, rows set up from the points, in a
-// pass order the lanes keep (each lane walks its group as btoclSolveConstraint does in passes
-// that pair: btoclPassPairs), and the contacts' iterations all there are.
+// pass order the lanes keep (each group's constraints go through the lanes in its order, each as
+// btoclSolveConstraint solves it in passes that pair: btoclPassPairs), and the contacts'
+// iterations all there are.
 bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
     return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
            passes.maxIterations == passes.numIterations &&

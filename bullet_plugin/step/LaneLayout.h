@@ -58,7 +58,7 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
                  int lanes, int frictionPerPoint, int bundlesPerSet, LaneLayout& out);
 
 // The lane layout's invariants against its split: every constraint in one lane of one slot, each
-// group whole in one lane and in its order there, a lane's groups all of its bundle's set, no
+// group in one bundle of its set, at most once a slot and in its order from slot to slot, no
 // dynamic body twice in a slot, every row placed once in its lane and its slot's blocks, each
 // lane's ints those of its constraint. Returns "" or the first failure.
 std::string validateLaneLayout(const LaneLayout& lanes, const BatchLayout& split,
