@@ -17,7 +17,8 @@ namespace {
 // takes some tens of microseconds; a thread still waiting after this sleeps again.
 constexpr std::chrono::microseconds kHostSplitPrewake{500};
 // How long at most the host's threads wait awake for the host's loops of a device step (the
-// split, the lanes' layout and rows): a dense block's take some milliseconds between them.
+// split, the lanes' layout and rows), or through a host step in lanes (whose passes run on them
+// too): a dense block's take some milliseconds between them.
 constexpr std::chrono::milliseconds kHostWorkPrewake{50};
 // A lane layout whose row places are filled less than this is solved one lane a group instead:
 // pile 1,000's (0.43) was no faster in lanes, block's, columns' and the 3D pyramid's (0.68 to
@@ -123,8 +124,11 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     const bool lanes = split && HostLaneSolve::available() && stepFitsLanes(p, settings, step.passes());
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
-    if (lanes)
+    if (lanes) {
+        // Its passes run on the host's threads too: they wait awake until the step ends.
+        prewakeHostThreads(kHostWorkPrewake);
         m_hostLanes.setUp(p, m_hostSplit, settings.flags);
+    }
     else if (setHere)
         setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);

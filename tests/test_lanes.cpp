@@ -20,6 +20,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -329,6 +330,65 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
     }
     CHECK(inVectors > 20);
     if (o.ownCfm) CHECK(oneLane > 0);
+}
+
+TEST_CASE("the host's lanes on the host's threads give one thread's bits, however the shares fall", "[lanes][host]") {
+    // HostLaneSolve lays each set out in a bundle a thread (by place) and runs a share of every
+    // set on each thread; a share its thread has not taken is run by another. A set's bundles
+    // share no dynamic body, so the bodies and impulses must be one thread's to the bit: the
+    // shares on the pool, and all of them on the calling thread (as when the worker never comes).
+    using namespace btocl;
+    if (!HostLaneSolve::available()) {
+        WARN("no AVX2 on this CPU: the host's lanes are not used");
+        return;
+    }
+    const bool twoFriction = GENERATE(false, true);
+    CAPTURE(twoFriction);
+    test::ParallelFrom everyLoop(1);  // the pool takes the scene's loops, and the lanes' shares
+    World w(SolverKind::Reference);
+    groundAndTumblingPile(w, 343);
+    int compared = 0;
+    for (int s = 0; s < 80; ++s) {
+        w.step();
+        if (s < 40 || s % 10 != 9) continue;  // once the pile has landed
+        btContactSolverInfo info = w.stepInfo();
+        if (twoFriction) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+        info.m_splitImpulse = 1;
+        const StepProblem gathered = test::gatherProblem(w, info, RowSetup::Device);
+        REQUIRE(gathered.constraints.size() > 150);
+        BatchLayout split;
+        splitHostInto(gathered.constraints.data(), gathered.constraints.size(), gathered.splitBodies, SplitParams{},
+                      true, split);
+        const SolveSettings settings = solveSettingsOf(info, false);
+        auto solve = [&](int shares, bool onPool, HostLaneSolve& lanes) {
+            StepProblem p = gathered;
+            lanes.setUp(p, split, settings.flags, shares);
+            INFO(shares << " shares");
+            REQUIRE(validateLaneLayout(lanes.layout(), split, p.constraints) == "");
+            lanes.solve(p, passScheduleOf(settings, p), onPool);
+            return std::make_pair(std::vector<btoclBodyDelta>(p.deltas.begin(), p.deltas.end()),
+                                  std::vector<float>(p.appliedImpulses.begin(), p.appliedImpulses.end()));
+        };
+        HostLaneSolve one, pool, calling;
+        const auto byOne = solve(1, true, one);
+        const auto onPool = solve(HostLaneSolve::kMaxShares, true, pool);
+        const auto onCalling = solve(HostLaneSolve::kMaxShares, false, calling);
+        INFO("step " << s << ", " << gathered.constraints.size() << " constraints");
+        CHECK(one.shares() == 1);
+        CHECK(pool.shares() == std::min(hostThreads(), HostLaneSolve::kMaxShares));
+        auto sameBits = [](const auto& a, const auto& b) {
+            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+        };
+        CHECK(sameBits(byOne.first, onPool.first));
+        CHECK(sameBits(byOne.second, onPool.second));
+        CHECK(sameBits(byOne.first, onCalling.first));
+        CHECK(sameBits(byOne.second, onCalling.second));
+        // More than one bundle a set, where there are threads for them.
+        if (hostThreads() > 1)
+            CHECK(pool.layout().bundles.size() > one.layout().bundles.size());
+        ++compared;
+    }
+    CHECK(compared == 4);
 }
 
 TEST_CASE("a host step's rows set up eight points at a time are the one-by-one setup's bits", "[host][setup]") {

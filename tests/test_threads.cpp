@@ -105,6 +105,17 @@ TEST_CASE("solvers made and stepped in threads at once end as each ends alone: w
     requireSameInThreads(onPath(btOpenCLSolvePath::Wide));
 }
 
+TEST_CASE("solvers made and stepped in threads at once end as each ends alone: split steps on the host",
+          "[threads][host]") {
+    // Split on the calling thread, solved in the vector unit's lanes where the CPU has AVX2, a
+    // share of each set on each of the pool's threads (HostLaneSolve), which the solvers share:
+    // a solver whose loop finds the pool taken runs every share on its own thread.
+    Run run = onPath(btOpenCLSolvePath::Serial);
+    run.config.hostStepMaxRows = 0;   // no step whole on the host ...
+    run.config.splitStepsOnHost = 1;  // ... every split step there
+    requireSameInThreads(run);
+}
+
 TEST_CASE("solvers in threads that fall back to Bullet's solver end as each ends alone", "[threads][fallback]") {
     for (const btOpenCLSolvePath path : {btOpenCLSolvePath::Serial, btOpenCLSolvePath::Wide}) {
         Run run = onPath(path);

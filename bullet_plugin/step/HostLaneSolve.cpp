@@ -8,8 +8,10 @@
 #include "row_solve.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <string>
+#include <thread>
 
 namespace btocl {
 namespace {
@@ -125,62 +127,69 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
     }, W * kContactConstraintWeight);
 }
 
-void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags) {
-    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), 1, m_layout);
+void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, int shares) {
+    // A share a thread where the pool runs a loop of the step's constraints (as their rows' setup).
+    const bool pool = p.constraints.size() * kContactConstraintWeight >= minParallelItems() / kAwakeThresholdDivisor;
+    m_shares = std::max(1, std::min({shares, pool ? hostThreads() : 1, kMaxShares}));
+    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), m_shares, m_layout);
     setUpLaneRows(p, m_layout, m_rows);
     setUpBodyPerUnit(p, flags, m_rows.perUnit);
 }
 
 namespace {
 
-// lane_solve.h's btoclSolveLaneSlot, for every slot of every bundle, set after set.
-BTOCL_LANES_TARGET void solveLanePass(const LaneLayout& layout, const HostArray<float>& rows,
-                                      HostArray<float>& applied, HostArray<float>& pushApplied,
-                                      const HostArray<float>& perUnit, btoclBodyDelta* deltas, int pass) {
+// lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle.
+BTOCL_LANES_TARGET void solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
+                                        float* pushApplied, btoclBodyDelta* deltas, int pass, int bundleIndex) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
     const int blockFloats = BTOCL_LANE_ROW_FLOATS * W;
-    for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set)
-        for (int bi = layout.setBundleStart[size_t(set)]; bi < layout.setBundleStart[size_t(set) + 1]; ++bi) {
-            const btoclGroup& bundle = layout.bundles[size_t(bi)];
-            for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
-                const btoclLaneSlot& s = layout.slots[size_t(slot)];
-                const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
-                const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
-                const int* bodyB = ints + BTOCL_LANE_BODY_B * W;
-                const LaneMask numPoints = loadInts(ints + BTOCL_LANE_POINTS * W);
-                LaneBodies A = loadBodies(deltas, perUnit.data(), bodyA, push, warmStart);
-                LaneBodies B = loadBodies(deltas, perUnit.data(), bodyB, push, warmStart);
-                if (pass == BTOCL_PASS_FRICTION) {
-                    for (int k = 0; k < s.frictionBlocks; ++k) {
-                        const int block = s.frictionBlock + k;
-                        const float* row = rows.data() + size_t(block) * blockFloats;
-                        const Lanes total = load(applied.data() + size_t(s.normalBlock + k / perPoint) * W);
-                        const Lanes limit = load(row + BTOCL_LANE_ROW_SHARED * W) * total;
-                        const LaneMask active = (numPoints * perPoint > k) & (total > 0.0f);
-                        solveRows(row, applied.data() + size_t(block) * W, A, B, -limit, limit, 0, active);
-                    }
+    const float* rows = lanes.rows.data();
+    const float* perUnit = lanes.perUnit.data();
+    const btoclGroup& bundle = layout.bundles[size_t(bundleIndex)];
+    for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
+        const btoclLaneSlot& s = layout.slots[size_t(slot)];
+        const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
+        const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
+        const int* bodyB = ints + BTOCL_LANE_BODY_B * W;
+        const LaneMask numPoints = loadInts(ints + BTOCL_LANE_POINTS * W);
+        // The next slot's bodies asked for: on two threads, a body the other thread moved last
+        // comes from its core's cache, a wait the slot's solve hides.
+        if (slot + 1 < bundle.offset + bundle.count) {
+            const int* next = ints + BTOCL_LANE_INTS * W;  // its A bodies, then its B bodies
+            for (int i = 0; i < 2 * W; ++i) __builtin_prefetch(deltas + next[BTOCL_LANE_BODY_A * W + i]);
+        }
+        LaneBodies A = loadBodies(deltas, perUnit, bodyA, push, warmStart);
+        LaneBodies B = loadBodies(deltas, perUnit, bodyB, push, warmStart);
+        if (pass == BTOCL_PASS_FRICTION) {
+            for (int k = 0; k < s.frictionBlocks; ++k) {
+                const int block = s.frictionBlock + k;
+                const float* row = rows + size_t(block) * blockFloats;
+                const Lanes total = load(applied + size_t(s.normalBlock + k / perPoint) * W);
+                const Lanes limit = load(row + BTOCL_LANE_ROW_SHARED * W) * total;
+                const LaneMask active = (numPoints * perPoint > k) & (total > 0.0f);
+                solveRows(row, applied + size_t(block) * W, A, B, -limit, limit, 0, active);
+            }
+        } else {
+            for (int k = 0; k < s.normalBlocks; ++k) {
+                const int block = s.normalBlock + k;
+                const float* row = rows + size_t(block) * blockFloats;
+                LaneMask active = numPoints > k;
+                if (warmStart) {
+                    applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
+                } else if (push) {
+                    active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
+                    solveRows(row, pushApplied + size_t(block) * W, A, B, splat(0.0f), splat(BTOCL_FLT_MAX), 1,
+                              active);
                 } else {
-                    for (int k = 0; k < s.normalBlocks; ++k) {
-                        const int block = s.normalBlock + k;
-                        const float* row = rows.data() + size_t(block) * blockFloats;
-                        LaneMask active = numPoints > k;
-                        if (warmStart) {
-                            applyImpulse(row, A, B, load(applied.data() + size_t(block) * W), active);
-                        } else if (push) {
-                            active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
-                            solveRows(row, pushApplied.data() + size_t(block) * W, A, B, splat(0.0f),
-                                      splat(BTOCL_FLT_MAX), 1, active);
-                        } else {
-                            solveRows(row, applied.data() + size_t(block) * W, A, B, splat(0.0f),
-                                      splat(BTOCL_FLT_MAX), 0, active);
-                        }
-                    }
+                    solveRows(row, applied + size_t(block) * W, A, B, splat(0.0f), splat(BTOCL_FLT_MAX), 0,
+                              active);
                 }
-                storeBodies(deltas, bodyA, push, A);
-                storeBodies(deltas, bodyB, push, B);
             }
         }
+        storeBodies(deltas, bodyA, push, A);
+        storeBodies(deltas, bodyB, push, B);
+    }
 }
 
 }  // namespace
@@ -191,15 +200,98 @@ size_t HostLaneSolve::slotsInVectors() const {
 
 bool HostLaneSolve::available() { return lanesAvailable(); }
 
-int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes) {
+namespace {
+
+// The step's sets, pass after pass, over the host's threads: each set's bundles dealt to the
+// threads by their place in the set (bundle i a share of thread i mod T), each thread starting a
+// set once every bundle of the sets before has finished (their bodies meet). A thread keeps its
+// share from pass to pass, so the share's rows stay in its core's cache, and the layout deals
+// each set's groups to bundles by place (layOutLanes), so its bodies mostly do too. A set's
+// bundles share no dynamic body: whichever thread runs a share, the bits are the one thread's.
+// A share still untaken once a thread has run its own is run by that thread: its own thread has
+// not come yet (the pool's worker wakes late) or has lost its core.
+struct SharedPasses {
+    const LaneLayout& layout;
+    LaneRows& rows;
+    btoclBodyDelta* deltas;
+    const std::vector<HostLaneSolve::SetStep>& steps;
+    int shares;
+    std::atomic<int>* taken;  // per set step and share
+    std::atomic<int> done{0};  // bundles finished
+};
+
+// Spins (each a pause, some tens of nanoseconds) a thread waits on the others before it takes a
+// share they have not taken: a share empty in this set would otherwise take the next at once.
+constexpr int kTakeAfterSpins = 32;
+// Spins after which a waiting thread yields its core: the thread it waits on may want it.
+constexpr int kYieldAfterSpins = 4096;
+
+// A spin's pause: the core's other work (and a sibling thread) runs meanwhile.
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
+bool take(SharedPasses& c, size_t step, int share) {
+    std::atomic<int>& flag = c.taken[step * size_t(c.shares) + size_t(share)];
+    return flag.load(std::memory_order_relaxed) == 0 && flag.exchange(1, std::memory_order_acq_rel) == 0;
+}
+
+void runShare(SharedPasses& c, const HostLaneSolve::SetStep& step, int share) {
+    for (int b = step.firstBundle + share; b < step.firstBundle + step.numBundles; b += c.shares) {
+        solveLaneBundle(c.layout, c.rows, c.rows.applied.data(), c.rows.pushApplied.data(), c.deltas, step.pass, b);
+        c.done.fetch_add(1, std::memory_order_release);
+    }
+}
+
+void runShares(void* context, int share) {
+    SharedPasses& c = *static_cast<SharedPasses*>(context);
+    for (size_t k = 0; k < c.steps.size(); ++k) {
+        const HostLaneSolve::SetStep& step = c.steps[k];
+        if (take(c, k, share)) runShare(c, step, share);
+        for (int spins = 0; c.done.load(std::memory_order_acquire) < step.doneAfter; ++spins) {
+            if (spins >= kTakeAfterSpins)
+                for (int other = 0; other < c.shares; ++other)
+                    if (take(c, k, other)) runShare(c, step, other);
+            if (spins < kYieldAfterSpins)
+                pause();
+            else
+                std::this_thread::yield();
+        }
+    }
+}
+
+}  // namespace
+
+int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool onPool) {
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;
+    m_steps.clear();
+    int bundles = 0;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
-        solveLanePass(m_layout, m_rows.rows, m_rows.applied, m_rows.pushApplied, m_rows.perUnit, p.deltas.data(),
-                      step.pass);
+        for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
+            const int first = m_layout.setBundleStart[size_t(set)], end = m_layout.setBundleStart[size_t(set) + 1];
+            if (end == first) continue;
+            bundles += end - first;
+            m_steps.push_back(SetStep{step.pass, first, end - first, bundles});
+        }
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
+    const size_t numTaken = m_steps.size() * size_t(m_shares);
+    if (numTaken > m_numTaken) {
+        m_taken.reset(new std::atomic<int>[numTaken]);
+        m_numTaken = numTaken;
+    }
+    for (size_t i = 0; i < numTaken; ++i) m_taken[i].store(0, std::memory_order_relaxed);
+    SharedPasses shared{m_layout, m_rows, p.deltas.data(), m_steps, m_shares, m_taken.get()};
+    if (m_shares > 1 && onPool)
+        runChunks(m_shares, runShares, &shared);
+    else
+        runShares(&shared, 0);  // every share on this thread
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());

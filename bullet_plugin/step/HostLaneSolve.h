@@ -1,8 +1,9 @@
-// A split step on the calling thread with its groups eight at a time in the vector unit's lanes:
-// the lane layout (LaneLayout.h) of the host's split, the contact rows set up into its blocks,
-// and each slot's eight constraints solved as kernels/lane_solve.h solves them, operation for
-// operation, so that each lane's results are the one-lane walk's to the bit (HostSolve, the
-// claimed launch). Contact rows alone, in a pass that pairs (stepFitsLanes, StepPolicy.h).
+// A split step on the host with its groups eight at a time in the vector unit's lanes: the lane
+// layout (LaneLayout.h) of the host's split, the contact rows set up into its blocks, and each
+// slot's eight constraints solved as kernels/lane_solve.h solves them, operation for operation,
+// so that each lane's results are the one-lane walk's to the bit (HostSolve, the claimed launch);
+// each set's bundles shared out to the host's threads, the calling one among them. Contact rows
+// alone, in a pass that pairs (stepFitsLanes, StepPolicy.h).
 #pragma once
 
 #include "BatchLayout.h"
@@ -10,6 +11,8 @@
 #include "StepProblem.h"
 #include "row_setup.h"
 
+#include <atomic>
+#include <memory>
 #include <vector>
 
 namespace btocl {
@@ -27,15 +30,22 @@ class HostLaneSolve {
 public:
     // AVX2's width: the solve's functions are built for AVX2 alone and run where the CPU has it.
     static constexpr int kLanes = 8;
+    // The most threads a solve runs on (a share each).
+    static constexpr int kMaxShares = 8;
     // Whether this CPU runs them (x86-64 with AVX2).
     static bool available();
 
-    // The lane layout of `split`, then every contact row set up from p.points into its blocks
-    // (and p.lateralDirs), as the setup kernel sets them up, on the host's threads.
-    void setUp(StepProblem& p, const BatchLayout& split, int flags);
-    // The passes of `passes` over the layout; leaves p.deltas and p.appliedImpulses (gather
-    // order) as HostSolve does. Returns the velocity iterations run.
-    int solve(StepProblem& p, const btoclPassSchedule& passes);
+    // The lane layout of `split`, each set's groups in bundles for up to `shares` threads (the
+    // host's threads, where a loop over the step's constraints would run on them), then every
+    // contact row set up from p.points into its blocks (and p.lateralDirs), as the setup kernel
+    // sets them up, on the host's threads.
+    void setUp(StepProblem& p, const BatchLayout& split, int flags, int shares = kMaxShares);
+    // The passes of `passes` over the layout, a share of each set on each of the host's threads
+    // (onPool; else every share on the calling thread); leaves p.deltas and p.appliedImpulses
+    // (gather order) as HostSolve does, the same bits either way. Returns the velocity iterations run.
+    int solve(StepProblem& p, const btoclPassSchedule& passes, bool onPool = true);
+    // The threads setUp laid the sets out for.
+    int shares() const { return m_shares; }
 
     const LaneLayout& layout() const { return m_layout; }
     // What setUp wrote (the tests hold it to lane_setup.h's one-lane setup).
@@ -43,8 +53,17 @@ public:
     // The slots whose rows setUp wrote eight points at a time (the others one lane at a time).
     size_t slotsInVectors() const;
 
+    // One set of one pass: its bundles, and how many bundles of the step have run once it is done.
+    struct SetStep {
+        int pass, firstBundle, numBundles, doneAfter;
+    };
+
 private:
     LaneLayout m_layout;
+    std::vector<SetStep> m_steps;
+    std::unique_ptr<std::atomic<int>[]> m_taken;  // per set step and share: a thread has taken it
+    size_t m_numTaken = 0;
+    int m_shares = 1;
     LaneRows m_rows;
 };
 

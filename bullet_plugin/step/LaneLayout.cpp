@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <utility>
 
 namespace btocl {
@@ -202,6 +203,63 @@ std::pair<long long, long long> writeBundle(const BundlePlan& plan, const std::v
     return {usedLanes, usedRows};
 }
 
+// Where a step's cells are cut into `bundles` runs of about as many constraints, by linear cell
+// index (rows of cells): bundle b of every set takes the cells in [cuts[b - 1], cuts[b]). Each
+// bundle then holds one region of the scene in every set, and a body, whose constraints lie in
+// neighbouring cells, mostly stays in one bundle's place from set to set: on the host's threads
+// (HostLaneSolve), each bundle place a thread's, in its core's cache (docs/performance.md,
+// "Lanes on the host's threads").
+std::vector<int> cellCuts(const BatchLayout& split, int bundles) {
+    std::vector<std::pair<int, int>> cells;  // (cell, constraints) of every cell group
+    long long total = 0;
+    for (int g = 0; g < split.setGroupStart[BTOCL_OVERFLOW_SET]; ++g) {
+        const btoclGroup& group = split.groups[std::size_t(g)];
+        cells.emplace_back(group.cell, group.count);
+        total += group.count;
+    }
+    std::sort(cells.begin(), cells.end());
+    std::vector<int> cuts;
+    long long before = 0;
+    for (const auto& cell : cells) {
+        before += cell.second;
+        while (int(cuts.size()) + 1 < bundles && before * bundles >= total * (long long)(cuts.size() + 1))
+            cuts.push_back(cell.first + 1);
+    }
+    while (int(cuts.size()) + 1 < bundles) cuts.push_back(std::numeric_limits<int>::max());
+    return cuts;
+}
+
+// A set's groups (from firstGroup on) to the bundles of their cells' runs (cellCuts).
+void dealByPlace(const BatchLayout& split, int firstGroup, const std::vector<int>& cuts, std::vector<int>& bundleOf) {
+    for (std::size_t k = 0; k < bundleOf.size(); ++k) {
+        const int cell = split.groups[std::size_t(firstGroup) + k].cell;
+        bundleOf[k] = int(std::upper_bound(cuts.begin(), cuts.end(), cell) - cuts.begin());
+    }
+}
+
+// The groups of a set share no dynamic body, so any bundle may take any of them: the largest
+// first, each to the bundle with the fewest constraints so far (the lowest where they tie), so
+// that the bundles end together. For the overflow set, whose group has no cell, and a set of too
+// few groups for a bundle a thread.
+void dealBySize(const BatchLayout& split, int firstGroup, int numBundles, std::vector<int>& order,
+                std::vector<std::pair<long long, int>>& shortest, std::vector<int>& bundleOf) {
+    const int numGroups = int(bundleOf.size());
+    order.resize(std::size_t(numGroups));
+    for (int k = 0; k < numGroups; ++k) order[std::size_t(k)] = firstGroup + k;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return split.groups[std::size_t(a)].count > split.groups[std::size_t(b)].count;
+    });
+    shortest.clear();  // a min-heap of (constraints, bundle)
+    for (int b = 0; b < numBundles; ++b) shortest.emplace_back(0, b);
+    for (const int g : order) {
+        std::pop_heap(shortest.begin(), shortest.end(), std::greater<>());
+        std::pair<long long, int>& bundle = shortest.back();
+        bundle.first += split.groups[std::size_t(g)].count;
+        bundleOf[std::size_t(g - firstGroup)] = bundle.second;
+        std::push_heap(shortest.begin(), shortest.end(), std::greater<>());
+    }
+}
+
 }  // namespace
 
 void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
@@ -218,6 +276,7 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     std::vector<std::pair<long long, int>> shortest;
     std::vector<GroupCursor> cursors;
     std::vector<BundlePlan> plans;
+    const std::vector<int> cuts = cellCuts(split, bundlesPerSet);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         out.setBundleStart[std::size_t(set)] = int(plans.size());
         const int firstGroup = split.setGroupStart[std::size_t(set)];
@@ -228,24 +287,11 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         // A bundle a unit: the fewer the bundles, the more groups each slot chooses among, and the
         // fuller its lanes (docs/performance.md, "A bundle a unit").
         const int numBundles = std::max(1, std::min(mostBundles, bundlesPerSet));
-        // The groups of a set share no dynamic body, so any bundle may take any of them: the
-        // largest first, each to the bundle with the fewest constraints so far (the lowest where
-        // they tie), so that the bundles end together.
-        order.resize(std::size_t(numGroups));
-        for (int k = 0; k < numGroups; ++k) order[std::size_t(k)] = firstGroup + k;
-        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-            return split.groups[std::size_t(a)].count > split.groups[std::size_t(b)].count;
-        });
         bundleOf.assign(std::size_t(numGroups), 0);
-        shortest.clear();  // a min-heap of (constraints, bundle)
-        for (int b = 0; b < numBundles; ++b) shortest.emplace_back(0, b);
-        for (const int g : order) {
-            std::pop_heap(shortest.begin(), shortest.end(), std::greater<>());
-            std::pair<long long, int>& bundle = shortest.back();
-            bundle.first += split.groups[std::size_t(g)].count;
-            bundleOf[std::size_t(g - firstGroup)] = bundle.second;
-            std::push_heap(shortest.begin(), shortest.end(), std::greater<>());
-        }
+        if (set < BTOCL_OVERFLOW_SET && numBundles == bundlesPerSet)
+            dealByPlace(split, firstGroup, cuts, bundleOf);
+        else
+            dealBySize(split, firstGroup, numBundles, order, shortest, bundleOf);
         // Each bundle's groups in the split's order (a counting sort by bundle).
         const int base = int(cursors.size());
         bundleFirst.assign(std::size_t(numBundles) + 1, 0);

@@ -1,10 +1,12 @@
 // A split step laid out for its groups to be solved in lanes (a CPU's vector unit; kernels/
 // lane_solve.h, docs/architecture.md "Lanes"). Groups of one set share no dynamic body, so each
-// set's groups are dealt to B bundles of W lanes (the largest group first, to the bundle with the
-// fewest constraints), and each slot of a bundle takes the next constraints of up to W of its
-// groups, one a group, chosen so that the slot's lanes have about as many points (a slot's blocks
-// are its most points). A group's constraints go in its order, so each constraint meets its
-// bodies as in the one-lane walk: the same bits.
+// set's groups are dealt to B bundles of W lanes: by place where a set has groups for all B
+// (bundle b of every set takes the cells of the b-th of B runs of the scene's cells in row
+// order, so that a body stays in one bundle's place from set to set), else by size (the largest
+// group first, to the bundle with the fewest constraints); and each slot of a bundle takes the
+// next constraints of up to W of its groups, one a group, chosen so that the slot's lanes have
+// about as many points (a slot's blocks are its most points). A group's constraints go in its
+// order, so each constraint meets its bodies as in the one-lane walk: the same bits.
 #pragma once
 
 #include "BatchLayout.h"
@@ -51,9 +53,9 @@ bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
 
 // `split` (the serial path's: one run a group) laid out in `lanes` lanes into `out`, its arrays
 // reused, with `bundlesPerSet` bundles a set where it has groups enough for their lanes (one per
-// compute unit: the units claim bundles; one where a single thread walks them all). Every constraint must have
-// numRows[FRICTION] == frictionPerPoint * numRows[NORMAL] and no other rows (rowsFitLanes);
-// throws btOpenCLSolverError otherwise.
+// compute unit, which claim them; one per host thread, which share them out). Every constraint
+// must have numRows[FRICTION] == frictionPerPoint * numRows[NORMAL] and no other rows
+// (rowsFitLanes); throws btOpenCLSolverError otherwise.
 void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, const btoclRowRegions& regions,
                  int lanes, int frictionPerPoint, int bundlesPerSet, LaneLayout& out);
 
