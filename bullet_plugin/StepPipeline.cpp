@@ -124,11 +124,12 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     const bool lanes = split && HostLaneSolve::available() && stepFitsLanes(p, settings, step.passes());
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
-    if (lanes) {
-        // Its passes run on the host's threads too: they wait awake until the step ends.
-        prewakeHostThreads(kHostWorkPrewake);
-        m_hostLanes.setUp(p, m_hostSplit, settings.flags);
-    }
+    // Its passes shared out to the host's threads, or on this one alone, as the recent steps'
+    // times say: with another process busy on a core, a share waits on that core's thread.
+    const bool shared = lanes && m_laneShareTimes.nextIsSecond();
+    if (shared) prewakeHostThreads(kHostWorkPrewake);  // the threads wait awake until the step ends
+    if (lanes)
+        m_hostLanes.setUp(p, m_hostSplit, settings.flags, shared ? HostLaneSolve::kMaxShares : 1);
     else if (setHere)
         setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);
@@ -139,6 +140,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
                          : setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
                                    : m_hostSolve.solve(p, step.passes(), settings, layout);
     s.msSolve = msSince(t1);
+    if (lanes) m_laneShareTimes.record(shared, s.msSetup + s.msSolve, p.numRows());
     s.solvedOnHost = true;
     s.solvedOnHostSplit = layout != nullptr;
     s.numCellGroups = layout ? layout->setGroupStart[BTOCL_NUM_SETS] : 0;

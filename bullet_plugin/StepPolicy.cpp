@@ -147,27 +147,27 @@ SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runt
     return plan;
 }
 
-bool SplitStepTimes::nextOnHost() {
+bool StepWayTimes::nextIsSecond() {
     m_trying = false;
     if (++m_sinceRetime >= kRetime) {  // the way not taken timed afresh: its old times may be stale
-        m_ways[!m_host].count = 0;
+        m_ways[!m_second].count = 0;
         m_sinceRetime = 0;
     }
     // Each way timed a few steps first, by turns.
     if (std::min(m_ways[0].count, m_ways[1].count) < kFirstSteps) return m_ways[1].count < m_ways[0].count;
     m_trying = ++m_sinceTry >= m_tryEvery;
-    return m_trying != m_host;
+    return m_trying != m_second;
 }
 
-double SplitStepTimes::Way::mean() const {
+double StepWayTimes::Way::mean() const {
     const int n = std::min(count, kWindow);
     double sum = 0;
     for (int i = 0; i < n; ++i) sum += msPerRow[i];
     return n > 0 ? sum / n : 0;
 }
 
-void SplitStepTimes::record(bool onHost, double ms, int rows) {
-    Way& way = m_ways[onHost];
+void StepWayTimes::record(bool second, double ms, int rows) {
+    Way& way = m_ways[second];
     if (!way.ran) {  // a way's first step sets its arrays up: not its pace
         way.ran = true;
         return;
@@ -178,17 +178,17 @@ void SplitStepTimes::record(bool onHost, double ms, int rows) {
         way.fill(ms / std::max(1, rows));
     else
         way.add(ms / std::max(1, rows));
-    const Way& other = m_ways[!onHost];
+    const Way& other = m_ways[!second];
     if (std::min(way.count, other.count) < kFirstSteps) return;
-    const bool host = way.mean() < other.mean() ? onHost : !onHost;
+    const bool faster = way.mean() < other.mean() ? second : !second;
     if (m_trying) {  // the way not taken, tried: tried less often while it loses
         m_sinceTry = 0;
-        m_tryEvery = host == m_host ? std::min(2 * m_tryEvery, kLastTry) : kFirstTry;
-    } else if (host != m_host) {
+        m_tryEvery = faster == m_second ? std::min(2 * m_tryEvery, kLastTry) : kFirstTry;
+    } else if (faster != m_second) {
         m_sinceTry = 0;
         m_tryEvery = kFirstTry;
     }
-    m_host = host;
+    m_second = faster;
     m_trying = false;
 }
 
@@ -214,7 +214,7 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
     if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, claimed)) return device;
     if (solver.splitStepsOnHost == SplitStepsOnHost::Always) return StepPlan::onHostSplit(passes);
     if (!times) return device;
-    return (times->nextOnHost() ? StepPlan::onHostSplit(passes) : device).asTimed();
+    return (times->nextIsSecond() ? StepPlan::onHostSplit(passes) : device).asTimed();
 }
 
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step) {

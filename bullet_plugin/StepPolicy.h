@@ -45,25 +45,26 @@ struct SolverPlan {
 // BT_OPENCL_SOLVE_PATH or BT_OPENCL_HOST_STEPS.
 SolverPlan planSolver(const btOpenCLSolverConfig& config, const OclRuntime& runtime);
 
-// Where a split step runs that either a claimed launch or the calling thread may solve, to the
-// same bits (SplitStepsOnHost::Timed): where the recent steps ran faster, by the mean time a row
-// of the last kWindow steps each way ran. The mean counts the worst steps: another process busy
-// on a core stalls a device step until the core's worker runs again, but not the calling thread,
-// which the OS moves (docs/performance.md, "Split steps on the host"). Each way is timed first
-// for kFirstSteps steps by turns (a way's first step, which sizes its arrays, not counted); the
-// way not taken is then tried every kFirstTry steps, less often while it loses (up to kLastTry),
-// a try's time standing for that way's window (its older times may be of another scene, a
-// growing pile's), and timed afresh every kRetime steps, so that the choice follows a load that
-// comes and goes.
-// No result depends on it: both ways give the same bits (tests/test_host_step.cpp).
-class SplitStepTimes {
+// Two ways of solving a kind of step to the same bits, taken where the recent steps ran faster,
+// by the mean time a row of the last kWindow steps each way ran. The mean counts the worst steps:
+// another process busy on a core stalls a step that waits on work of that core's thread until it
+// runs again (docs/performance.md, "Split steps on the host"). Each way is timed first for
+// kFirstSteps steps by turns (a way's first step, which sizes its arrays, not counted); the way
+// not taken is then tried every kFirstTry steps, less often while it loses (up to kLastTry), a
+// try's time standing for that way's window (its older times may be of another scene, a growing
+// pile's), and timed afresh every kRetime steps, so that the choice follows a load that comes and
+// goes. No result depends on it: both ways give the same bits.
+// Its uses: a split step on the device's claimed launch (first) or the calling thread (second;
+// SplitStepsOnHost::Timed, tests/test_host_step.cpp); a host step in lanes on the calling thread
+// alone (first) or shared out to the host's threads (second; HostLaneSolve, tests/test_lanes.cpp).
+class StepWayTimes {
 public:
     static constexpr int kWindow = 16, kFirstSteps = 3, kFirstTry = 32, kLastTry = 256, kRetime = 512;
 
-    // Where the next such step runs: the faster way so far, or the other on its turn to be tried.
-    bool nextOnHost();
-    // The time of the step that nextOnHost placed, over its rows.
-    void record(bool onHost, double ms, int rows);
+    // Whether the next step takes the second way: the faster so far, or the other on its turn to be tried.
+    bool nextIsSecond();
+    // The time of the step that nextIsSecond placed, over its rows.
+    void record(bool second, double ms, int rows);
 
 private:
     struct Way {
@@ -77,10 +78,12 @@ private:
         }
         double mean() const;
     };
-    Way m_ways[2];  // [0] device, [1] host
-    bool m_host = false, m_trying = false;
+    Way m_ways[2];  // [0] the first way, [1] the second
+    bool m_second = false, m_trying = false;
     int m_sinceTry = 0, m_tryEvery = kFirstTry, m_sinceRetime = 0;
 };
+// Where split steps ran faster of late: the device (first) or the host (second).
+using SplitStepTimes = StepWayTimes;
 
 // How this step runs: on the host where a device launch would cost more than the step's work;
 // whole in one launch where the split would cost more than it saves; else split and launched as

@@ -239,7 +239,7 @@ struct TimedChoice {
     int run(int n) {
         int host = 0;
         for (int i = 0; i < n; ++i) {
-            const bool onHost = times.nextOnHost();
+            const bool onHost = times.nextIsSecond();
             host += onHost ? 1 : 0;
             times.record(onHost, onHost ? hostMs : deviceMs, 1000);
         }
