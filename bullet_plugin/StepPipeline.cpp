@@ -124,12 +124,15 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     const bool lanes = split && HostLaneSolve::available() && stepFitsLanes(p, settings, step.passes());
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
-    // Its passes shared out to the host's threads, or on this one alone, as the recent steps'
-    // times say: with another process busy on a core, a share waits on that core's thread.
+    // Its passes shared out to the host's threads (a share of each set a thread), or on this one
+    // alone, as the recent steps' times say: with another process busy on a core, a share waits
+    // on that core's thread. The same bits either way.
     const bool shared = lanes && m_laneShareTimes.nextIsSecond();
-    if (shared) prewakeHostThreads(kHostWorkPrewake);  // the threads wait awake until the step ends
+    const int shares =
+        shared ? std::min(threadsForLoop(p.constraints.size(), kContactConstraintWeight), HostLaneSolve::kMaxShares) : 1;
+    if (shares > 1) prewakeHostThreads(kHostWorkPrewake);  // the threads wait awake until the step ends
     if (lanes)
-        m_hostLanes.setUp(p, m_hostSplit, settings.flags, shared ? HostLaneSolve::kMaxShares : 1);
+        m_hostLanes.setUp(p, m_hostSplit, settings.flags, shares);
     else if (setHere)
         setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);

@@ -175,6 +175,44 @@ TEST_CASE("parallelFor's loops back to back each run their own items", "[host][p
     CHECK(allRight);
 }
 
+TEST_CASE("shared steps run every part once, each step after every part of the steps before", "[host][parallel]") {
+    // runSharedSteps: thread i takes part i of each step, and a part left untaken is run by
+    // another thread. Whoever runs it, each part runs once, and never before every part of the
+    // steps before it has finished; on the pool (awake or asleep, so that the worker comes late
+    // or at once), on the calling thread alone, and from two threads at once (one of which finds
+    // the pool taken).
+    const int shares = std::max(2, btocl::hostThreads());
+    auto runRight = [&](int numSteps, bool onPool) {
+        std::vector<std::atomic<int>> runs(size_t(numSteps) * size_t(shares));
+        std::atomic<int> finished{0};
+        std::atomic<bool> early{false};
+        btocl::shareSteps(numSteps, shares, onPool, [&](int step, int share) {
+            if (finished.load() < step * shares) early = true;
+            for (volatile int spin = 0; spin < (step * 7 + share * 13) % 200; ++spin) {
+            }
+            runs[size_t(step) * size_t(shares) + size_t(share)].fetch_add(1);
+            finished.fetch_add(1);
+        });
+        return !early && std::all_of(runs.begin(), runs.end(), [](const std::atomic<int>& r) { return r == 1; });
+    };
+    bool allRight = true;
+    for (int round = 0; round < 200; ++round) {
+        if (round % 2 == 0) btocl::prewakeHostThreads(std::chrono::microseconds(2000));
+        allRight = allRight && runRight(1 + round % 40, true);
+    }
+    btocl::restHostThreads();
+    for (int round = 0; round < 20; ++round) allRight = allRight && runRight(1 + round, false);
+    CHECK(allRight);
+    bool otherRight = true;
+    std::thread other([&] {
+        for (int round = 0; round < 100; ++round) otherRight = otherRight && runRight(5 + round % 20, true);
+    });
+    for (int round = 0; round < 100; ++round) allRight = allRight && runRight(5 + round % 20, true);
+    other.join();
+    CHECK(allRight);
+    CHECK(otherRight);
+}
+
 TEST_CASE("parallelFor's loops run right around pre-wakes of the pool", "[host][parallel]") {
     // A pre-wake leaves the workers waiting awake for a loop, up to a deadline: loops that start
     // within it, after it, or while another thread pre-wakes the pool each run their own items

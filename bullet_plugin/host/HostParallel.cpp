@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -155,7 +156,71 @@ HostPool& pool() {
     return p;
 }
 
+// runSharedSteps' steps: which parts are taken, how many have run.
+struct SharedSteps {
+    int numSteps, shares;
+    void (*part)(void*, int, int);
+    void* context;
+    std::unique_ptr<std::atomic<int>[]> taken;  // per step and share
+    std::atomic<int> done{0};                   // parts run
+};
+
+// Spins (each a pause, some tens of nanoseconds) a thread waits on the others before it takes a
+// part they have not taken: a part with nothing in it would otherwise take the next at once.
+constexpr int kTakeAfterSpins = 32;
+// Spins after which a waiting thread yields its core: the thread it waits on may want it.
+constexpr int kYieldAfterSpins = 4096;
+
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
+bool take(SharedSteps& s, int step, int share) {
+    std::atomic<int>& flag = s.taken[size_t(step) * size_t(s.shares) + size_t(share)];
+    return flag.load(std::memory_order_relaxed) == 0 && flag.exchange(1, std::memory_order_acq_rel) == 0;
+}
+
+void runPart(SharedSteps& s, int step, int share) {
+    s.part(s.context, step, share);
+    s.done.fetch_add(1, std::memory_order_release);
+}
+
+void runShare(void* context, int share) {
+    SharedSteps& s = *static_cast<SharedSteps*>(context);
+    for (int step = 0; step < s.numSteps; ++step) {
+        if (take(s, step, share)) runPart(s, step, share);
+        const int doneAfter = (step + 1) * s.shares;
+        for (int spins = 0; s.done.load(std::memory_order_acquire) < doneAfter; ++spins) {
+            if (spins >= kTakeAfterSpins)
+                for (int other = 0; other < s.shares; ++other)
+                    if (take(s, step, other)) runPart(s, step, other);
+            if (spins < kYieldAfterSpins)
+                pause();
+            else
+                std::this_thread::yield();
+        }
+    }
+}
+
 }  // namespace
+
+void runSharedSteps(int numSteps, int shares, bool onPool, void (*part)(void*, int, int), void* context) {
+    if (numSteps <= 0) return;
+    shares = std::max(1, shares);
+    if (shares == 1) {
+        for (int step = 0; step < numSteps; ++step) part(context, step, 0);
+        return;
+    }
+    SharedSteps s{numSteps, shares, part, context, std::make_unique<std::atomic<int>[]>(size_t(numSteps) * size_t(shares))};
+    if (onPool)
+        runChunks(shares, runShare, &s);
+    else
+        runShare(&s, 0);  // every part on this thread
+}
 
 int hostThreads() { return pool().threads(); }
 

@@ -65,6 +65,28 @@ constexpr size_t kAwakeThresholdDivisor = 8;
 // a chunk itself) runs its chunks on its own thread. chunk must not throw.
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
+// The threads a loop of n items of `weight` would run on (parallelFor's rule, the pool awake).
+inline int threadsForLoop(size_t n, size_t weight) {
+    return n * weight >= minParallelItems() / kAwakeThresholdDivisor ? hostThreads() : 1;
+}
+
+// Runs steps one after another, each in `shares` parts that touch nothing of each other's
+// (part(context, step, share)), over up to `shares` of the pool's threads: thread i takes share i
+// of every step (so what a share works on stays in its core's cache from step to step), and
+// starts a step once every part of the steps before has run. A part still untaken once a thread
+// has run its own is run by that thread (a worker that has not come yet, or was taken off its
+// core before its part). With onPool false, or the pool taken, every part on the calling thread.
+// part must not throw.
+void runSharedSteps(int numSteps, int shares, bool onPool, void (*part)(void* context, int step, int share),
+                    void* context);
+
+template <class F>
+void shareSteps(int numSteps, int shares, bool onPool, F&& part) {
+    runSharedSteps(numSteps, shares, onPool, [](void* context, int step, int share) {
+        (*static_cast<F*>(context))(step, share);
+    }, &part);
+}
+
 // What an item weighs in a loop, against the lightest loops' items (weight 1):
 // (the counts below are with the pool asleep; an eighth of them where it waits awake)
 // a manifold counted or packed by the gather, whose lines lie scattered in memory (from about

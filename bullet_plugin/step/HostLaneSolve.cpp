@@ -8,10 +8,8 @@
 #include "row_solve.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstddef>
 #include <string>
-#include <thread>
 
 namespace btocl {
 namespace {
@@ -128,9 +126,7 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
 }
 
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, int shares) {
-    // A share a thread where the pool runs a loop of the step's constraints (as their rows' setup).
-    const bool pool = p.constraints.size() * kContactConstraintWeight >= minParallelItems() / kAwakeThresholdDivisor;
-    m_shares = std::max(1, std::min({shares, pool ? hostThreads() : 1, kMaxShares}));
+    m_shares = std::max(1, std::min(shares, kMaxShares));
     layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), m_shares, m_layout);
     setUpLaneRows(p, m_layout, m_rows);
     setUpBodyPerUnit(p, flags, m_rows.perUnit);
@@ -200,98 +196,29 @@ size_t HostLaneSolve::slotsInVectors() const {
 
 bool HostLaneSolve::available() { return lanesAvailable(); }
 
-namespace {
-
-// The step's sets, pass after pass, over the host's threads: each set's bundles dealt to the
-// threads by their place in the set (bundle i a share of thread i mod T), each thread starting a
-// set once every bundle of the sets before has finished (their bodies meet). A thread keeps its
-// share from pass to pass, so the share's rows stay in its core's cache, and the layout deals
-// each set's groups to bundles by place (layOutLanes), so its bodies mostly do too. A set's
-// bundles share no dynamic body: whichever thread runs a share, the bits are the one thread's.
-// A share still untaken once a thread has run its own is run by that thread: its own thread has
-// not come yet (the pool's worker wakes late) or has lost its core.
-struct SharedPasses {
-    const LaneLayout& layout;
-    LaneRows& rows;
-    btoclBodyDelta* deltas;
-    const std::vector<HostLaneSolve::SetStep>& steps;
-    int shares;
-    std::atomic<int>* taken;  // per set step and share
-    std::atomic<int> done{0};  // bundles finished
-};
-
-// Spins (each a pause, some tens of nanoseconds) a thread waits on the others before it takes a
-// share they have not taken: a share empty in this set would otherwise take the next at once.
-constexpr int kTakeAfterSpins = 32;
-// Spins after which a waiting thread yields its core: the thread it waits on may want it.
-constexpr int kYieldAfterSpins = 4096;
-
-// A spin's pause: the core's other work (and a sibling thread) runs meanwhile.
-inline void pause() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#else
-    std::this_thread::yield();
-#endif
-}
-
-bool take(SharedPasses& c, size_t step, int share) {
-    std::atomic<int>& flag = c.taken[step * size_t(c.shares) + size_t(share)];
-    return flag.load(std::memory_order_relaxed) == 0 && flag.exchange(1, std::memory_order_acq_rel) == 0;
-}
-
-void runShare(SharedPasses& c, const HostLaneSolve::SetStep& step, int share) {
-    for (int b = step.firstBundle + share; b < step.firstBundle + step.numBundles; b += c.shares) {
-        solveLaneBundle(c.layout, c.rows, c.rows.applied.data(), c.rows.pushApplied.data(), c.deltas, step.pass, b);
-        c.done.fetch_add(1, std::memory_order_release);
-    }
-}
-
-void runShares(void* context, int share) {
-    SharedPasses& c = *static_cast<SharedPasses*>(context);
-    for (size_t k = 0; k < c.steps.size(); ++k) {
-        const HostLaneSolve::SetStep& step = c.steps[k];
-        if (take(c, k, share)) runShare(c, step, share);
-        for (int spins = 0; c.done.load(std::memory_order_acquire) < step.doneAfter; ++spins) {
-            if (spins >= kTakeAfterSpins)
-                for (int other = 0; other < c.shares; ++other)
-                    if (take(c, k, other)) runShare(c, step, other);
-            if (spins < kYieldAfterSpins)
-                pause();
-            else
-                std::this_thread::yield();
-        }
-    }
-}
-
-}  // namespace
-
 int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool onPool) {
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;
     m_steps.clear();
-    int bundles = 0;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = m_layout.setBundleStart[size_t(set)], end = m_layout.setBundleStart[size_t(set) + 1];
-            if (end == first) continue;
-            bundles += end - first;
-            m_steps.push_back(SetStep{step.pass, first, end - first, bundles});
+            if (end > first) m_steps.push_back(SetStep{step.pass, first, end});
         }
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
-    const size_t numTaken = m_steps.size() * size_t(m_shares);
-    if (numTaken > m_numTaken) {
-        m_taken.reset(new std::atomic<int>[numTaken]);
-        m_numTaken = numTaken;
-    }
-    for (size_t i = 0; i < numTaken; ++i) m_taken[i].store(0, std::memory_order_relaxed);
-    SharedPasses shared{m_layout, m_rows, p.deltas.data(), m_steps, m_shares, m_taken.get()};
-    if (m_shares > 1 && onPool)
-        runChunks(m_shares, runShares, &shared);
-    else
-        runShares(&shared, 0);  // every share on this thread
+    // A set's bundles share no dynamic body: thread i runs bundle i (its share) of every set, and
+    // whichever thread runs a share, the bits are one thread's. The layout deals a set's groups
+    // to its bundles by place, so a body mostly stays on one core from set to set.
+    float* applied = m_rows.applied.data();
+    float* pushApplied = m_rows.pushApplied.data();
+    btoclBodyDelta* deltas = p.deltas.data();
+    shareSteps(int(m_steps.size()), m_shares, onPool, [&](int k, int share) {
+        const SetStep& step = m_steps[size_t(k)];
+        for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
+            solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, b);
+    });
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());

@@ -11,8 +11,6 @@
 #include "StepProblem.h"
 #include "row_setup.h"
 
-#include <atomic>
-#include <memory>
 #include <vector>
 
 namespace btocl {
@@ -35,11 +33,10 @@ public:
     // Whether this CPU runs them (x86-64 with AVX2).
     static bool available();
 
-    // The lane layout of `split`, each set's groups in bundles for up to `shares` threads (the
-    // host's threads, where a loop over the step's constraints would run on them), then every
-    // contact row set up from p.points into its blocks (and p.lateralDirs), as the setup kernel
-    // sets them up, on the host's threads.
-    void setUp(StepProblem& p, const BatchLayout& split, int flags, int shares = kMaxShares);
+    // The lane layout of `split`, each set's groups in bundles for `shares` threads (at most
+    // kMaxShares), then every contact row set up from p.points into its blocks (and
+    // p.lateralDirs), as the setup kernel sets them up, on the host's threads.
+    void setUp(StepProblem& p, const BatchLayout& split, int flags, int shares = 1);
     // The passes of `passes` over the layout, a share of each set on each of the host's threads
     // (onPool; else every share on the calling thread); leaves p.deltas and p.appliedImpulses
     // (gather order) as HostSolve does, the same bits either way. Returns the velocity iterations run.
@@ -53,16 +50,14 @@ public:
     // The slots whose rows setUp wrote eight points at a time (the others one lane at a time).
     size_t slotsInVectors() const;
 
-    // One set of one pass: its bundles, and how many bundles of the step have run once it is done.
+private:
+    // One set of one pass: its bundles.
     struct SetStep {
-        int pass, firstBundle, numBundles, doneAfter;
+        int pass, firstBundle, endBundle;
     };
 
-private:
     LaneLayout m_layout;
     std::vector<SetStep> m_steps;
-    std::unique_ptr<std::atomic<int>[]> m_taken;  // per set step and share: a thread has taken it
-    size_t m_numTaken = 0;
     int m_shares = 1;
     LaneRows m_rows;
 };

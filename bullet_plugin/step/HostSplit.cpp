@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace btocl {
@@ -107,6 +108,30 @@ BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std
     BatchLayout layout;
     splitHostInto(constraints.data(), constraints.size(), bodies, params, false, layout);
     return layout;
+}
+
+std::vector<int> cellCuts(const BatchLayout& split, int parts) {
+    std::vector<std::pair<int, int>> cells;  // (cell, constraints) of every cell group
+    long long total = 0;
+    for (int g = 0; g < split.setGroupStart[BTOCL_OVERFLOW_SET]; ++g) {
+        const btoclGroup& group = split.groups[size_t(g)];
+        cells.emplace_back(group.cell, group.count);
+        total += group.count;
+    }
+    std::sort(cells.begin(), cells.end());
+    std::vector<int> cuts;
+    long long before = 0;
+    for (const auto& cell : cells) {
+        before += cell.second;
+        while (int(cuts.size()) + 1 < parts && before * parts >= total * (long long)(cuts.size() + 1))
+            cuts.push_back(cell.first + 1);
+    }
+    while (int(cuts.size()) + 1 < parts) cuts.push_back(std::numeric_limits<int>::max());
+    return cuts;
+}
+
+int partOfCell(const std::vector<int>& cuts, int cell) {
+    return int(std::upper_bound(cuts.begin(), cuts.end(), cell) - cuts.begin());
 }
 
 }  // namespace btocl

@@ -30,4 +30,12 @@ void splitHostInto(const btoclConstraint* constraints, size_t n, const std::vect
 BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
                       const SplitParams& params);
 
+// Where a split's cells are cut into `parts` runs of about as many constraints, by linear cell
+// index (rows of cells): part p of every set takes the cells in [cuts[p - 1], cuts[p]). Threads
+// that each take one part of every set then keep to one region of the scene, and a body, whose
+// constraints lie in neighbouring cells, mostly stays on one thread's core from set to set.
+std::vector<int> cellCuts(const BatchLayout& split, int parts);
+// The part of `cell` (cellCuts).
+int partOfCell(const std::vector<int>& cuts, int cell);
+
 }  // namespace btocl

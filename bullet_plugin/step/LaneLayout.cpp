@@ -1,12 +1,12 @@
 #include "LaneLayout.h"
 
 #include "HostParallel.h"
+#include "HostSplit.h"
 #include "btOpenCLSolverError.h"
 
 #include <algorithm>
 #include <cstddef>
 #include <functional>
-#include <limits>
 #include <utility>
 
 namespace btocl {
@@ -203,38 +203,14 @@ std::pair<long long, long long> writeBundle(const BundlePlan& plan, const std::v
     return {usedLanes, usedRows};
 }
 
-// Where a step's cells are cut into `bundles` runs of about as many constraints, by linear cell
-// index (rows of cells): bundle b of every set takes the cells in [cuts[b - 1], cuts[b]). Each
-// bundle then holds one region of the scene in every set, and a body, whose constraints lie in
-// neighbouring cells, mostly stays in one bundle's place from set to set: on the host's threads
+// A set's groups (from firstGroup on) to the bundles of their cells' runs (cellCuts): each bundle
+// holds one region of the scene in every set, and a body, whose constraints lie in neighbouring
+// cells, mostly stays in one bundle's place from set to set: on the host's threads
 // (HostLaneSolve), each bundle place a thread's, in its core's cache (docs/performance.md,
 // "Lanes on the host's threads").
-std::vector<int> cellCuts(const BatchLayout& split, int bundles) {
-    std::vector<std::pair<int, int>> cells;  // (cell, constraints) of every cell group
-    long long total = 0;
-    for (int g = 0; g < split.setGroupStart[BTOCL_OVERFLOW_SET]; ++g) {
-        const btoclGroup& group = split.groups[std::size_t(g)];
-        cells.emplace_back(group.cell, group.count);
-        total += group.count;
-    }
-    std::sort(cells.begin(), cells.end());
-    std::vector<int> cuts;
-    long long before = 0;
-    for (const auto& cell : cells) {
-        before += cell.second;
-        while (int(cuts.size()) + 1 < bundles && before * bundles >= total * (long long)(cuts.size() + 1))
-            cuts.push_back(cell.first + 1);
-    }
-    while (int(cuts.size()) + 1 < bundles) cuts.push_back(std::numeric_limits<int>::max());
-    return cuts;
-}
-
-// A set's groups (from firstGroup on) to the bundles of their cells' runs (cellCuts).
 void dealByPlace(const BatchLayout& split, int firstGroup, const std::vector<int>& cuts, std::vector<int>& bundleOf) {
-    for (std::size_t k = 0; k < bundleOf.size(); ++k) {
-        const int cell = split.groups[std::size_t(firstGroup) + k].cell;
-        bundleOf[k] = int(std::upper_bound(cuts.begin(), cuts.end(), cell) - cuts.begin());
-    }
+    for (std::size_t k = 0; k < bundleOf.size(); ++k)
+        bundleOf[k] = partOfCell(cuts, split.groups[std::size_t(firstGroup) + k].cell);
 }
 
 // The groups of a set share no dynamic body, so any bundle may take any of them: the largest
