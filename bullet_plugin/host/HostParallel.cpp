@@ -161,12 +161,15 @@ struct SharedSteps {
     int numSteps, shares;
     void (*part)(void*, int, int);
     void* context;
-    std::unique_ptr<std::atomic<int>[]> taken;  // per step and share
-    std::atomic<int> done{0};                   // parts run
+    std::unique_ptr<std::atomic<int>[]> taken;   // per step and share
+    std::unique_ptr<std::atomic<int>[]> joined;  // per share: a thread runs it
+    std::atomic<int> done{0};                    // parts run
 };
 
 // Spins (each a pause, some tens of nanoseconds) a thread waits on the others before it takes a
-// part they have not taken: a part with nothing in it would otherwise take the next at once.
+// part they have not taken: a part with nothing in it would otherwise take the next at once. A
+// share no thread has joined yet (the pool's worker still waking, or the pool taken by another
+// loop) is taken at once.
 constexpr int kTakeAfterSpins = 32;
 // Spins after which a waiting thread yields its core: the thread it waits on may want it.
 constexpr int kYieldAfterSpins = 4096;
@@ -191,13 +194,15 @@ void runPart(SharedSteps& s, int step, int share) {
 
 void runShare(void* context, int share) {
     SharedSteps& s = *static_cast<SharedSteps*>(context);
+    s.joined[size_t(share)].store(1, std::memory_order_relaxed);
     for (int step = 0; step < s.numSteps; ++step) {
         if (take(s, step, share)) runPart(s, step, share);
         const int doneAfter = (step + 1) * s.shares;
         for (int spins = 0; s.done.load(std::memory_order_acquire) < doneAfter; ++spins) {
-            if (spins >= kTakeAfterSpins)
-                for (int other = 0; other < s.shares; ++other)
-                    if (take(s, step, other)) runPart(s, step, other);
+            for (int other = 0; other < s.shares; ++other)
+                if ((spins >= kTakeAfterSpins || !s.joined[size_t(other)].load(std::memory_order_relaxed)) &&
+                    take(s, step, other))
+                    runPart(s, step, other);
             if (spins < kYieldAfterSpins)
                 pause();
             else
@@ -215,7 +220,8 @@ void runSharedSteps(int numSteps, int shares, bool onPool, void (*part)(void*, i
         for (int step = 0; step < numSteps; ++step) part(context, step, 0);
         return;
     }
-    SharedSteps s{numSteps, shares, part, context, std::make_unique<std::atomic<int>[]>(size_t(numSteps) * size_t(shares))};
+    SharedSteps s{numSteps, shares, part, context, std::make_unique<std::atomic<int>[]>(size_t(numSteps) * size_t(shares)),
+                  std::make_unique<std::atomic<int>[]>(size_t(shares))};
     if (onPool)
         runChunks(shares, runShare, &s);
     else
