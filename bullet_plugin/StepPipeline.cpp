@@ -121,7 +121,8 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     }
     const auto t0 = std::chrono::steady_clock::now();
     // Contact rows alone, in passes that pair: eight groups at a time in the vector unit's lanes.
-    const bool lanes = split && HostLaneSolve::available() && stepFitsLanes(p, settings, step.passes());
+    const bool lanes = split && HostLaneSolve::available() && stepFitsHostLanes(p, settings, step.passes()) &&
+                       (p.numJointRows() == 0 || HostLaneSolve::contactsLead(m_hostSplit, p.constraints));
     // Rows the gather left to a device go straight into the host solve's arrays.
     const bool setHere = p.rowsOnDevice;
     // Its passes shared out to the host's threads (a share of each set a thread), or on this one
@@ -137,7 +138,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
         setupRowsOnHost(p, bullet, &m_hostSolve, split);
     s.msSetup = msSince(t0);
     if (lanes && m_config.validate)
-        noteInvariants(s, validateLaneLayout(m_hostLanes.layout(), m_hostSplit, p.constraints));
+        noteInvariants(s, validateLaneLayout(m_hostLanes.layout(), m_hostLanes.laneSplit(), p.constraints));
     const auto t1 = std::chrono::steady_clock::now();
     s.numIterationsRun = lanes     ? m_hostLanes.solve(p, step.passes())
                          : setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)

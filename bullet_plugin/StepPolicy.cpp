@@ -92,6 +92,19 @@ bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const bt
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }
 
+// The host's lanes also take a step whose joints' rows the gather set up (p.rows: theirs alone),
+// the contacts through the lanes and each set's joints after them one group a lane
+// (HostLaneSolve), where the joints take no iteration past the contacts'.
+bool stepFitsHostLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
+    if (stepFitsLanes(p, settings, passes)) return true;
+    const btoclRowRegions& r = p.regions;
+    return p.rowsOnDevice && p.rows.size() == size_t(p.numJointRows()) && p.numContactPoints() > 0 &&
+           btoclRegionRows(&r, BTOCL_ROWS_ROLLING) == 0 &&
+           btoclRegionRows(&r, BTOCL_ROWS_FRICTION) == p.frictionRowsPerPoint() * btoclRegionRows(&r, BTOCL_ROWS_NORMAL) &&
+           passes.maxIterations == passes.numIterations &&
+           btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
+}
+
 int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic) {
     if (automatic) *automatic = false;
     if (asked < 0) {

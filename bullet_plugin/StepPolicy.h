@@ -104,6 +104,9 @@ bool hostSetsUpLaneRows(int lanes, const OclRuntime& runtime);
 // Whether a step's rows can be solved in lanes (LaneLayout.h): contact rows alone, set up from
 // the points, in passes that pair (StepPolicy.cpp).
 bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes);
+// The same, or joints' rows beside such contact rows, where the joints take no iteration past the
+// contacts': the host's lanes (HostLaneSolve), given a split whose groups lead with their contacts.
+bool stepFitsHostLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes);
 
 // Whether a step split as `step` says is split on the host (HostSplit.h) rather than the device.
 bool splitsOnHost(const SolverPlan& solver, const StepProblem& p, const StepPlan& step);

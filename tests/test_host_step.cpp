@@ -254,7 +254,9 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     // device's program contracts no multiply-add: the same bits, step after step, whatever the
     // options. Elsewhere (a GPU, the wide path) no split step is solved on the host. The host's
     // loops run on its threads here (this scene is below their threshold): each constraint's
-    // rows are set up alone.
+    // rows are set up alone. Where the CPU has AVX2 and the options let the contacts pair, the
+    // host's lanes take the contacts and each set's joints follow them one group a lane
+    // (HostLaneSolve), shared out to the host's threads or not.
     const Variant v = Variant(GENERATE(range(0, int(Variant::Count))));
     CAPTURE(int(v));
     const SplitRun host = runSplit(1, v, 40, 1), device = runSplit(0, v, 40);
@@ -267,6 +269,9 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     }
     CHECK(host.stepsOnDevice == 0);
     REQUIRE(host.stepsOnHost == 40);
+    const bool lanes = btocl::HostLaneSolve::available() &&
+                       (v == Variant::Plain || v == Variant::TwoFriction || v == Variant::SplitImpulse);
+    CHECK(host.stepsInLanes == (lanes ? 40 : 0));
     REQUIRE(host.state.size() == device.state.size());
     CHECK(host.state == device.state);
 }

@@ -1,6 +1,7 @@
 #include "HostLaneSolve.h"
 
 #include "HostParallel.h"
+#include "HostSplit.h"
 #include "btOpenCLSolverError.h"
 #include "LaneRowSetup.h"
 #include "LaneVectors.h"
@@ -125,9 +126,101 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
     }, W * kContactConstraintWeight);
 }
 
+bool HostLaneSolve::contactsLead(const BatchLayout& split, const std::vector<btoclConstraint>& constraints) {
+    for (const btoclGroup& g : split.groups) {
+        bool joints = false;
+        for (int k = 0; k < g.count; ++k) {
+            const bool joint = constraints[size_t(split.solveOrder[size_t(g.offset + k)])].numRows[BTOCL_ROWS_JOINT] > 0;
+            if (joints && !joint) return false;
+            joints = joint;
+        }
+    }
+    return true;
+}
+
+// The split's contacts as a split of their own (each group's leading contacts, in its cell), and
+// each group's joints as a run of the split's order; the joints' constraints and rows (p.rows:
+// the joints' alone, set up by the gather) as the one-lane walk reads them, from row 0.
+void HostLaneSolve::setUpJoints(const StepProblem& p, const BatchLayout& split) {
+    const std::vector<int> cuts = cellCuts(split, m_shares);
+    BatchLayout& c = m_contactSplit;
+    c.solveOrder.clear();
+    c.groups.clear();
+    c.setGroupStart.fill(0);
+    c.cellSize = split.cellSize;
+    c.numOverflowConstraints = 0;
+    c.serialRuns = true;
+    m_jointRuns.clear();
+    m_setJointRunStart.fill(0);
+    for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
+        c.setGroupStart[size_t(set)] = int(c.groups.size());
+        m_setJointRunStart[size_t(set)] = int(m_jointRuns.size());
+        for (int gi = split.setGroupStart[size_t(set)]; gi < split.setGroupStart[size_t(set) + 1]; ++gi) {
+            const btoclGroup& g = split.groups[size_t(gi)];
+            int contacts = 0;
+            while (contacts < g.count &&
+                   p.constraints[size_t(split.solveOrder[size_t(g.offset + contacts)])].numRows[BTOCL_ROWS_JOINT] == 0)
+                ++contacts;
+            if (contacts > 0) {
+                c.groups.push_back(btoclGroup{int(c.solveOrder.size()), contacts, 1, g.cell});
+                c.solveOrder.insert(c.solveOrder.end(), split.solveOrder.begin() + g.offset,
+                                    split.solveOrder.begin() + g.offset + contacts);
+                if (set == BTOCL_OVERFLOW_SET) c.numOverflowConstraints += contacts;
+            }
+            if (contacts < g.count)
+                m_jointRuns.push_back(JointRun{g.offset + contacts, g.count - contacts,
+                                               set < BTOCL_OVERFLOW_SET ? partOfCell(cuts, g.cell) : 0});
+        }
+    }
+    c.setGroupStart[BTOCL_NUM_SETS + 1] = int(c.groups.size());
+    m_setJointRunStart[BTOCL_NUM_SETS + 1] = int(m_jointRuns.size());
+    c.batchEnd.assign(c.solveOrder.size(), 0);
+    for (const btoclGroup& g : c.groups) c.batchEnd[size_t(g.offset)] = g.offset + g.count;
+
+    // The joints' constraints come last (StepGatherer::addJointRows), their rows too.
+    size_t firstJoint = p.constraints.size();
+    while (firstJoint > 0 && p.constraints[firstJoint - 1].numRows[BTOCL_ROWS_JOINT] > 0) --firstJoint;
+    m_firstJoint = int(firstJoint);
+    m_firstJointRow = p.rowStart(BTOCL_ROWS_JOINT);
+    m_jointConstraints.assign(p.constraints.begin() + std::ptrdiff_t(firstJoint), p.constraints.end());
+    for (btoclConstraint& j : m_jointConstraints) j.firstRow[BTOCL_ROWS_JOINT] -= m_firstJointRow;
+    const size_t numRows = p.rows.size();
+    m_jointRows.resize(numRows);
+    m_jointNormalOfRow.resize(numRows);
+    m_jointApplied.resize(numRows);
+    m_jointPushApplied.resize(numRows);
+    parallelFor(numRows, [&](size_t r) {
+        const btoclRow& row = p.rows[r];
+        m_jointRows[r] = btoclSolveRowOf(row, BTOCL_ROWS_JOINT);
+        m_jointNormalOfRow[r] = row.frictionIndex;
+        m_jointApplied[r] = BTOCL_ROW_APPLIED(row);
+        m_jointPushApplied[r] = BTOCL_ROW_APPLIED_PUSH(row);
+    }, kRigidBodyWeight);
+}
+
+// A set's joints in one pass, the runs of `share`, each group's in its order (btoclSolveConstraint,
+// as the one-lane walk).
+void HostLaneSolve::solveJointRuns(StepProblem& p, const SetStep& step, int share) {
+    const btoclSolveBuffers b{m_jointConstraints.data(), m_jointRows.data(), m_jointNormalOfRow.data(),
+                              m_jointApplied.data(), m_jointPushApplied.data(), p.bodies.data(), p.deltas.data()};
+    for (int ri = m_setJointRunStart[size_t(step.set)]; ri < m_setJointRunStart[size_t(step.set) + 1]; ++ri) {
+        const JointRun& run = m_jointRuns[size_t(ri)];
+        if (run.share != share) continue;
+        for (int k = 0; k < run.count; ++k) {
+            const int ci = m_split->solveOrder[size_t(run.offset + k)] - m_firstJoint;
+            btoclSolveConstraint(&b, &m_jointConstraints[size_t(ci)], BTOCL_PASS_NORMAL, m_flags, step.iteration,
+                                 m_numIterations, 0u);
+        }
+    }
+}
+
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, int shares) {
     m_shares = std::max(1, std::min(shares, kMaxShares));
-    layOutLanes(split, p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), m_shares, m_layout);
+    m_flags = flags;
+    m_split = &split;
+    m_jointConstraints.clear();
+    if (p.numJointRows() > 0) setUpJoints(p, split);
+    layOutLanes(laneSplit(), p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), m_shares, m_layout);
     setUpLaneRows(p, m_layout, m_rows);
     setUpBodyPerUnit(p, flags, m_rows.perUnit);
 }
@@ -200,11 +293,17 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;
     m_steps.clear();
+    m_numIterations = passes.numIterations;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = m_layout.setBundleStart[size_t(set)], end = m_layout.setBundleStart[size_t(set) + 1];
-            if (end > first) m_steps.push_back(SetStep{step.pass, first, end});
+            if (end > first) m_steps.push_back(SetStep{step.pass, first, end, set, step.iteration, false});
+            // The set's joints after its contacts (a group's come after its contacts): in the
+            // velocity passes alone, as the one-lane walk solves them.
+            if (step.pass == BTOCL_PASS_NORMAL && !m_jointConstraints.empty() &&
+                m_setJointRunStart[size_t(set) + 1] > m_setJointRunStart[size_t(set)])
+                m_steps.push_back(SetStep{step.pass, 0, 0, set, step.iteration, true});
         }
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
@@ -216,13 +315,19 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     btoclBodyDelta* deltas = p.deltas.data();
     shareSteps(int(m_steps.size()), m_shares, onPool, [&](int k, int share) {
         const SetStep& step = m_steps[size_t(k)];
+        if (step.joints) {
+            solveJointRuns(p, step, share);
+            return;
+        }
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
             solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, b);
     });
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());
-    for (size_t r = 0; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
+    const size_t contactRows = m_jointConstraints.empty() ? rowMap.size() : size_t(m_firstJointRow);
+    for (size_t r = 0; r < contactRows; ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
+    for (size_t r = contactRows; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_jointApplied[r - contactRows];
     return iterations;
 }
 

@@ -3,7 +3,9 @@
 // slot's eight constraints solved as kernels/lane_solve.h solves them, operation for operation,
 // so that each lane's results are the one-lane walk's to the bit (HostSolve, the claimed launch);
 // each set's bundles shared out to the host's threads, the calling one among them. Contact rows
-// alone, in a pass that pairs (stepFitsLanes, StepPolicy.h).
+// in passes that pair, and joints' rows beside them (stepFitsHostLanes, StepPolicy.h): a group
+// holds its contacts first, so each set's contacts go through the lanes and its joints follow,
+// one group a lane, as the one-lane walk solves them.
 #pragma once
 
 #include "BatchLayout.h"
@@ -11,6 +13,9 @@
 #include "StepProblem.h"
 #include "row_setup.h"
 
+#include "row_solve.h"
+
+#include <array>
 #include <vector>
 
 namespace btocl {
@@ -50,16 +55,43 @@ public:
     // The slots whose rows setUp wrote eight points at a time (the others one lane at a time).
     size_t slotsInVectors() const;
 
+    // Whether a split's groups each hold their contacts first and their joints after (as the
+    // host's split keeps gather order, where the joints come last): a set's contacts may then go
+    // through the lanes before its joints, to the bits of each group walked in order.
+    static bool contactsLead(const BatchLayout& split, const std::vector<btoclConstraint>& constraints);
+    // The split the lanes were laid out from: the step's, or its contacts alone where it has joints.
+    const BatchLayout& laneSplit() const { return m_jointConstraints.empty() ? *m_split : m_contactSplit; }
+
 private:
-    // One set of one pass: its bundles.
+    // One set of one pass: its bundles, or (joints) its groups' joints, one group a lane.
     struct SetStep {
         int pass, firstBundle, endBundle;
+        int set, iteration;
+        bool joints;
     };
+    // A group's joints: a run of the step's solve order, and the share that walks it.
+    struct JointRun {
+        int offset, count, share;
+    };
+    void setUpJoints(const StepProblem& p, const BatchLayout& split);
+    void solveJointRuns(StepProblem& p, const SetStep& step, int share);
 
     LaneLayout m_layout;
     std::vector<SetStep> m_steps;
     int m_shares = 1;
+    int m_flags = 0, m_numIterations = 0;
     LaneRows m_rows;
+    // A step with joints: the split's contacts (m_contactSplit) go through the lanes; each set's
+    // joints are walked one group a lane after its contacts, from their own rows.
+    const BatchLayout* m_split = nullptr;
+    BatchLayout m_contactSplit;
+    std::vector<JointRun> m_jointRuns;              // by set, in the split's order
+    std::array<int, BTOCL_NUM_SETS + 2> m_setJointRunStart{};
+    int m_firstJoint = 0, m_firstJointRow = 0;      // the first joint's constraint, its first row
+    std::vector<btoclConstraint> m_jointConstraints;  // the joints', rows from 0
+    std::vector<btoclSolveRow> m_jointRows;
+    std::vector<int> m_jointNormalOfRow;
+    std::vector<float> m_jointApplied, m_jointPushApplied;
 };
 
 }  // namespace btocl

@@ -387,8 +387,8 @@ std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
             }
         }
     }
-    for (std::size_t c = 0; c < seen.size(); ++c)
-        if (seen[c] != 1) return "a constraint is not in exactly one lane";
+    for (std::size_t c = 0; c < seen.size(); ++c)  // the split's, once; others (a step's joints), never
+        if (seen[c] != (setOf[c] >= 0 ? 1 : 0)) return "a constraint is not in exactly one lane";
     // No dynamic body twice in a slot: the lanes of a slot are solved at once.
     for (std::size_t slot = 0; slot < numSlots; ++slot) {
         bodies.clear();
