@@ -128,7 +128,11 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     // Its passes shared out to the host's threads (a share of each set a thread), or on this one
     // alone, as the recent steps' times say: with another process busy on a core, a share waits
     // on that core's thread. The same bits either way.
-    const bool shared = lanes && m_laneShareTimes.nextIsSecond();
+    // Both ways are timed only where split steps stay on the host (always, or as their own times
+    // chose): a step the device's way is trying here takes the way preferred so far, shared out
+    // at first, so that the host is tried at its pace.
+    const bool timesShares = !step.timed() || m_splitTimes.prefersSecond();
+    const bool shared = lanes && (timesShares ? m_laneShareTimes.nextIsSecond() : m_laneShareTimes.prefersSecond());
     const int shares =
         shared ? std::min(threadsForLoop(p.constraints.size(), kContactConstraintWeight), HostLaneSolve::kMaxShares) : 1;
     if (shares > 1) prewakeHostThreads(kHostWorkPrewake);  // the threads wait awake until the step ends
@@ -144,7 +148,7 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
                          : setHere ? m_hostSolve.solveRowsSet(p, step.passes(), settings, layout)
                                    : m_hostSolve.solve(p, step.passes(), settings, layout);
     s.msSolve = msSince(t1);
-    if (lanes) m_laneShareTimes.record(shared, s.msSetup + s.msSolve, p.numRows());
+    if (lanes && timesShares) m_laneShareTimes.record(shared, s.msSetup + s.msSolve, p.numRows());
     s.solvedOnHost = true;
     s.solvedOnHostSplit = layout != nullptr;
     s.numCellGroups = layout ? layout->setGroupStart[BTOCL_NUM_SETS] : 0;

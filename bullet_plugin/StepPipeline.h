@@ -91,7 +91,7 @@ private:
     HostSolve m_hostSolve;
     HostLaneSolve m_hostLanes;
     SplitStepTimes m_splitTimes;  // where split steps ran faster of late (SplitStepsOnHost::Timed)
-    StepWayTimes m_laneShareTimes;  // whether host steps in lanes ran faster of late shared out
+    StepWayTimes m_laneShareTimes{true};  // whether host steps in lanes ran faster of late shared out
     int m_stepsWithoutLanes = 0;  // steps left to solve one lane a group after a layout filled too little
     bool m_warmedUp = false;
     unsigned m_orderSeed = 0;  // steps run since the solver was made or reset

@@ -61,8 +61,13 @@ class StepWayTimes {
 public:
     static constexpr int kWindow = 16, kFirstSteps = 3, kFirstTry = 32, kLastTry = 256, kRetime = 512;
 
+    // secondFirst: the way taken as the faster before any is timed.
+    explicit StepWayTimes(bool secondFirst = false) : m_second(secondFirst) {}
+
     // Whether the next step takes the second way: the faster so far, or the other on its turn to be tried.
     bool nextIsSecond();
+    // The way taken as the faster so far (true: the second), with no turn to be tried.
+    bool prefersSecond() const { return m_second; }
     // The time of the step that nextIsSecond placed, over its rows.
     void record(bool second, double ms, int rows);
 
@@ -79,7 +84,7 @@ private:
         double mean() const;
     };
     Way m_ways[2];  // [0] the first way, [1] the second
-    bool m_second = false, m_trying = false;
+    bool m_second, m_trying = false;
     int m_sinceTry = 0, m_tryEvery = kFirstTry, m_sinceRetime = 0;
 };
 // Where split steps ran faster of late: the device (first) or the host (second).
