@@ -81,28 +81,31 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
 
 }  // namespace
 
-// The lanes solve every row of a step (kernels/lane_solve.h, HostLaneSolve.h): contact rows
-// alone, each point's friction rows after its normal row's, rows set up from the points, in a
-// pass order the lanes keep (each group's constraints go through the lanes in its order, each as
+namespace {
+
+// Contact rows as the lanes solve them (kernels/lane_solve.h, HostLaneSolve.h): each point's
+// friction rows after its normal row's, no rolling rows, set up from the points, in a pass order
+// the lanes keep (each group's constraints go through the lanes in its order, each as
 // btoclSolveConstraint solves it in passes that pair: btoclPassPairs), and the contacts'
 // iterations all there are.
-bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
-    return p.rowsOnDevice && p.rows.empty() && rowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
+bool contactsFitLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
+    return p.rowsOnDevice && contactRowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
            passes.maxIterations == passes.numIterations &&
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }
 
-// The host's lanes also take a step whose joints' rows the gather set up (p.rows: theirs alone),
-// the contacts through the lanes and each set's joints after them one group a lane
-// (HostLaneSolve), where the joints take no iteration past the contacts'.
+}  // namespace
+
+// The lanes solve every row of a step: contact rows alone.
+bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
+    return p.rows.empty() && rowsFitLanes(p.regions, p.frictionRowsPerPoint()) && contactsFitLanes(p, settings, passes);
+}
+
+// The host's lanes also take a step whose joints' rows the gather set up (p.rows: theirs alone)
+// beside its contacts, each set's joints after its contacts one group a lane (HostLaneSolve).
 bool stepFitsHostLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
-    if (stepFitsLanes(p, settings, passes)) return true;
-    const btoclRowRegions& r = p.regions;
-    return p.rowsOnDevice && p.rows.size() == size_t(p.numJointRows()) && p.numContactPoints() > 0 &&
-           btoclRegionRows(&r, BTOCL_ROWS_ROLLING) == 0 &&
-           btoclRegionRows(&r, BTOCL_ROWS_FRICTION) == p.frictionRowsPerPoint() * btoclRegionRows(&r, BTOCL_ROWS_NORMAL) &&
-           passes.maxIterations == passes.numIterations &&
-           btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
+    return p.rows.size() == size_t(p.numJointRows()) && (p.rows.empty() || p.numContactPoints() > 0) &&
+           contactsFitLanes(p, settings, passes);
 }
 
 int resolveSimdLanes(int asked, const OclRuntime& runtime, bool* automatic) {

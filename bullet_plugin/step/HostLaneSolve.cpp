@@ -184,25 +184,17 @@ void HostLaneSolve::setUpJoints(const StepProblem& p, const BatchLayout& split) 
     m_firstJointRow = p.rowStart(BTOCL_ROWS_JOINT);
     m_jointConstraints.assign(p.constraints.begin() + std::ptrdiff_t(firstJoint), p.constraints.end());
     for (btoclConstraint& j : m_jointConstraints) j.firstRow[BTOCL_ROWS_JOINT] -= m_firstJointRow;
-    const size_t numRows = p.rows.size();
-    m_jointRows.resize(numRows);
-    m_jointNormalOfRow.resize(numRows);
-    m_jointApplied.resize(numRows);
-    m_jointPushApplied.resize(numRows);
-    parallelFor(numRows, [&](size_t r) {
-        const btoclRow& row = p.rows[r];
-        m_jointRows[r] = btoclSolveRowOf(row, BTOCL_ROWS_JOINT);
-        m_jointNormalOfRow[r] = row.frictionIndex;
-        m_jointApplied[r] = BTOCL_ROW_APPLIED(row);
-        m_jointPushApplied[r] = BTOCL_ROW_APPLIED_PUSH(row);
-    }, kRigidBodyWeight);
+    m_jointRows.beginRows(p.rows.size());
+    parallelFor(p.rows.size(), [&](size_t r) { m_jointRows.setRow(int(r), p.rows[r], BTOCL_ROWS_JOINT); },
+                kRigidBodyWeight);
 }
 
 // A set's joints in one pass, the runs of `share`, each group's in its order (btoclSolveConstraint,
 // as the one-lane walk).
 void HostLaneSolve::solveJointRuns(StepProblem& p, const SetStep& step, int share) {
-    const btoclSolveBuffers b{m_jointConstraints.data(), m_jointRows.data(), m_jointNormalOfRow.data(),
-                              m_jointApplied.data(), m_jointPushApplied.data(), p.bodies.data(), p.deltas.data()};
+    const HostSolve::RowRecords rows = m_jointRows.rowRecords();
+    const btoclSolveBuffers b{m_jointConstraints.data(), rows.rows, rows.normalOfRow, rows.applied, rows.pushApplied,
+                              p.bodies.data(), p.deltas.data()};
     for (int ri = m_setJointRunStart[size_t(step.set)]; ri < m_setJointRunStart[size_t(step.set) + 1]; ++ri) {
         const JointRun& run = m_jointRuns[size_t(ri)];
         if (run.share != share) continue;
@@ -327,7 +319,8 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     p.appliedImpulses.resize(rowMap.size());
     const size_t contactRows = m_jointConstraints.empty() ? rowMap.size() : size_t(m_firstJointRow);
     for (size_t r = 0; r < contactRows; ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
-    for (size_t r = contactRows; r < rowMap.size(); ++r) p.appliedImpulses[r] = m_jointApplied[r - contactRows];
+    const float* jointApplied = m_jointRows.rowRecords().applied;
+    for (size_t r = contactRows; r < rowMap.size(); ++r) p.appliedImpulses[r] = jointApplied[r - contactRows];
     return iterations;
 }
 

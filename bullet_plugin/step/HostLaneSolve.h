@@ -9,11 +9,10 @@
 #pragma once
 
 #include "BatchLayout.h"
+#include "HostSolve.h"
 #include "LaneLayout.h"
 #include "StepProblem.h"
 #include "row_setup.h"
-
-#include "row_solve.h"
 
 #include <array>
 #include <vector>
@@ -89,9 +88,7 @@ private:
     std::array<int, BTOCL_NUM_SETS + 2> m_setJointRunStart{};
     int m_firstJoint = 0, m_firstJointRow = 0;      // the first joint's constraint, its first row
     std::vector<btoclConstraint> m_jointConstraints;  // the joints', rows from 0
-    std::vector<btoclSolveRow> m_jointRows;
-    std::vector<int> m_jointNormalOfRow;
-    std::vector<float> m_jointApplied, m_jointPushApplied;
+    HostSolve m_jointRows;                            // their rows as the one-lane walk reads them
 };
 
 }  // namespace btocl

@@ -24,10 +24,13 @@ inline void prefetch(const void* p) {
 
 }  // namespace
 
+bool contactRowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint) {
+    return btoclRegionRows(&regions, BTOCL_ROWS_ROLLING) == 0 &&
+           btoclRegionRows(&regions, BTOCL_ROWS_FRICTION) == frictionPerPoint * btoclRegionRows(&regions, BTOCL_ROWS_NORMAL);
+}
+
 bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint) {
-    return btoclRegionRows(&regions, BTOCL_ROWS_JOINT) == 0 && btoclRegionRows(&regions, BTOCL_ROWS_ROLLING) == 0 &&
-           btoclRegionRows(&regions, BTOCL_ROWS_FRICTION) ==
-               frictionPerPoint * btoclRegionRows(&regions, BTOCL_ROWS_NORMAL);
+    return btoclRegionRows(&regions, BTOCL_ROWS_JOINT) == 0 && contactRowsFitLanes(regions, frictionPerPoint);
 }
 
 namespace {

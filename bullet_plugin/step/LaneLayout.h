@@ -50,6 +50,8 @@ struct LaneRows {
 // Whether a step's rows can be solved in lanes: contact rows alone (no joint or rolling rows),
 // each point with `frictionPerPoint` friction rows.
 bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
+// The same but for joint rows, which the lanes leave to one group a lane (HostLaneSolve).
+bool contactRowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
 
 // `split` (the serial path's: one run a group) laid out in `lanes` lanes into `out`, its arrays
 // reused, with `bundlesPerSet` bundles a set where it has groups enough for their lanes (one per
