@@ -12,6 +12,15 @@
 namespace btocl {
 namespace {
 
+// A pause of some tens of nanoseconds in a wait on another core.
+inline void pauseCore() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
 // One loop: its chunks, taken from a shared counter by every thread that joins it. It lives on
 // the calling thread's stack until every chunk has run and every worker that joined has left.
 struct Job {
@@ -19,9 +28,17 @@ struct Job {
     void* context;
     int numChunks;
     std::atomic<int> next{0};
-    int unfinished;  // chunks not yet run (guarded by the pool's mutex)
-    int joined = 0;  // workers running its chunks (guarded by the pool's mutex)
+    // Changed under the pool's mutex; read without it by the caller waiting awake.
+    std::atomic<int> unfinished;  // chunks not yet run
+    std::atomic<int> joined{0};   // workers running its chunks
+    bool done() const {
+        return unfinished.load(std::memory_order_acquire) == 0 && joined.load(std::memory_order_acquire) == 0;
+    }
 };
+
+// How long the caller of a loop waits awake for the workers' last chunks before it sleeps: they
+// mostly end within microseconds, and a sleep took tens of microseconds to wake from.
+constexpr std::chrono::microseconds kDoneAwake{100};
 
 // Workers that sleep on a condition variable between loops. The caller publishes its job,
 // wakes them, runs chunks itself, and waits until the job is done and left.
@@ -60,7 +77,16 @@ public:
         const int ran = runChunks(job);
         std::unique_lock<std::mutex> lock(m_mutex);
         job.unfinished -= ran;
-        m_done.wait(lock, [&] { return job.unfinished == 0 && job.joined == 0; });
+        if (!job.done()) {
+            lock.unlock();
+            const auto until = std::chrono::steady_clock::now() + kDoneAwake;
+            for (int spins = 1; !job.done(); ++spins) {
+                if (spins % 64 == 0 && std::chrono::steady_clock::now() > until) break;  // a worker descheduled
+                pauseCore();
+            }
+            lock.lock();
+            m_done.wait(lock, [&] { return job.done(); });
+        }
         m_job = nullptr;  // a worker that wakes only now finds nothing to join
     }
 
@@ -110,7 +136,7 @@ private:
                 std::lock_guard<std::mutex> lock(m_mutex);
                 job->unfinished -= ran;
                 --job->joined;
-                if (job->unfinished == 0 && job->joined == 0) m_done.notify_all();
+                if (job->done()) m_done.notify_all();
             }
             // Within a pre-wake's deadline the next loop of the same step is near: wait for it
             // awake, as for the first, rather than sleep and be woken again for each loop.
@@ -174,14 +200,6 @@ constexpr int kTakeAfterSpins = 32;
 // Spins after which a waiting thread yields its core: the thread it waits on may want it.
 constexpr int kYieldAfterSpins = 4096;
 
-inline void pause() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#else
-    std::this_thread::yield();
-#endif
-}
-
 bool take(SharedSteps& s, int step, int share) {
     std::atomic<int>& flag = s.taken[size_t(step) * size_t(s.shares) + size_t(share)];
     return flag.load(std::memory_order_relaxed) == 0 && flag.exchange(1, std::memory_order_acq_rel) == 0;
@@ -204,7 +222,7 @@ void runShare(void* context, int share) {
                     take(s, step, other))
                     runPart(s, step, other);
             if (spins < kYieldAfterSpins)
-                pause();
+                pauseCore();
             else
                 std::this_thread::yield();
         }
