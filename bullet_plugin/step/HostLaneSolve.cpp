@@ -139,8 +139,8 @@ bool HostLaneSolve::contactsLead(const BatchLayout& split, const std::vector<bto
 }
 
 // The split's contacts as a split of their own (each group's leading contacts, in its cell), and
-// each group's joints as a run of the split's order; the joints' constraints and rows (p.rows:
-// the joints' alone, set up by the gather) as the one-lane walk reads them, from row 0.
+// each group's joints as a run of the split's order, walked by the share of its cell; then the
+// joints' lanes (setUpJointLanes).
 void HostLaneSolve::setUpJoints(const StepProblem& p, const BatchLayout& split) {
     const std::vector<int> cuts = cellCuts(split, m_shares);
     BatchLayout& c = m_contactSplit;
@@ -177,41 +177,157 @@ void HostLaneSolve::setUpJoints(const StepProblem& p, const BatchLayout& split) 
     c.batchEnd.assign(c.solveOrder.size(), 0);
     for (const btoclGroup& g : c.groups) c.batchEnd[size_t(g.offset)] = g.offset + g.count;
 
-    // The joints' constraints come last (StepGatherer::addJointRows), their rows too.
-    size_t firstJoint = p.constraints.size();
-    while (firstJoint > 0 && p.constraints[firstJoint - 1].numRows[BTOCL_ROWS_JOINT] > 0) --firstJoint;
-    m_firstJoint = int(firstJoint);
-    m_firstJointRow = p.rowStart(BTOCL_ROWS_JOINT);
-    m_jointConstraints.assign(p.constraints.begin() + std::ptrdiff_t(firstJoint), p.constraints.end());
-    for (btoclConstraint& j : m_jointConstraints) j.firstRow[BTOCL_ROWS_JOINT] -= m_firstJointRow;
-    m_jointRows.beginRows(p.rows.size());
-    parallelFor(p.rows.size(), [&](size_t r) { m_jointRows.setRow(int(r), p.rows[r], BTOCL_ROWS_JOINT); },
-                kRigidBodyWeight);
+    m_firstJointRow = p.rowStart(BTOCL_ROWS_JOINT);  // the joints' rows come last (StepGatherer::addJointRows)
+    setUpJointLanes(p);
 }
 
-// A set's joints in one pass, the runs of `share`, each group's in its order (btoclSolveConstraint,
-// as the one-lane walk).
-void HostLaneSolve::solveJointRuns(StepProblem& p, const SetStep& step, int share) {
-    const HostSolve::RowRecords rows = m_jointRows.rowRecords();
-    const btoclSolveBuffers b{m_jointConstraints.data(), rows.rows, rows.normalOfRow, rows.applied, rows.pushApplied,
-                              p.bodies.data(), p.deltas.data()};
-    for (int ri = m_setJointRunStart[size_t(step.set)]; ri < m_setJointRunStart[size_t(step.set) + 1]; ++ri) {
-        const JointRun& run = m_jointRuns[size_t(ri)];
-        if (run.share != share) continue;
-        for (int k = 0; k < run.count; ++k) {
-            const int ci = m_split->solveOrder[size_t(run.offset + k)] - m_firstJoint;
-            btoclSolveConstraint(&b, &m_jointConstraints[size_t(ci)], BTOCL_PASS_NORMAL, m_flags, step.iteration,
-                                 m_numIterations, 0u);
+namespace {
+
+// A joint slot's rows (lane i's k-th at block firstBlock + k, lane i) as the one-lane walk reads
+// them (btoclSolveRowOf), eight rows turned into a block's vectors at a time; zeros where a lane
+// has no row (masked in the solve).
+BTOCL_LANES_TARGET void placeJointRows(const btoclRow* rows, const int* ints, const JointLaneSlot& slot, float* out,
+                                       float* applied, int* rowMap) {
+    static_assert(sizeof(btoclSolveRow) == BTOCL_SOLVE_ROW_FLOATS * sizeof(float), "a solve row's floats");
+    btoclSolveRow lanes[W];
+    const btoclSolveRow zero{};
+    for (int k = 0; k < slot.blocks; ++k) {
+        const int block = slot.firstBlock + k;
+        const float* records[W];
+        Lanes start{};
+        for (int i = 0; i < W; ++i) {
+            records[i] = reinterpret_cast<const float*>(&zero);
+            if (k >= ints[2 * W + i]) continue;
+            const int r = ints[3 * W + i] + k;
+            lanes[i] = btoclSolveRowOf(rows[r], BTOCL_ROWS_JOINT);
+            records[i] = reinterpret_cast<const float*>(&lanes[i]);
+            start[i] = BTOCL_ROW_APPLIED(rows[r]);
+            rowMap[r] = block * W + i;
         }
+        float* to = out + size_t(block) * BTOCL_SOLVE_ROW_FLOATS * W;
+        Lanes v[8];
+        transpose8(records, v);  // floats 0 to 7
+        for (int f = 0; f < 8; ++f) store(v[f], to + f * W);
+        const float* shifted[W];
+        for (int i = 0; i < W; ++i) shifted[i] = records[i] + 8;
+        transpose8(shifted, v);  // floats 8 to 15
+        for (int f = 0; f < 8; ++f) store(v[f], to + (8 + f) * W);
+        for (int i = 0; i < W; ++i) shifted[i] = records[i] + 12;
+        transpose8(shifted, v);  // floats 12 to 19: the last four
+        for (int f = 4; f < 8; ++f) store(v[f], to + (12 + f) * W);
+        store(start, applied + size_t(block) * W);
     }
+}
+
+}  // namespace
+
+// Each set's runs of a share dealt to the lanes, the longest first to the lane with the fewest
+// joints (runs share no dynamic body, and each keeps its order in its lane); then the slots, and
+// every joint row (p.rows: the joints' alone, set up by the gather) placed in its slot's blocks.
+void HostLaneSolve::setUpJointLanes(const StepProblem& p) {
+    m_jointSlots.clear();
+    m_jointLaneInts.clear();
+    m_jointLaneIterations.clear();
+    m_laneJoints.resize(W);
+    int numBlocks = 0;
+    for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set)
+        for (int share = 0; share < kMaxShares; ++share) {
+            m_jointSlotStart[size_t(set) * kMaxShares + size_t(share)] = int(m_jointSlots.size());
+            m_runOrder.clear();
+            for (int ri = m_setJointRunStart[size_t(set)]; ri < m_setJointRunStart[size_t(set) + 1]; ++ri)
+                if (m_jointRuns[size_t(ri)].share == share) m_runOrder.push_back(ri);
+            std::stable_sort(m_runOrder.begin(), m_runOrder.end(), [&](int a, int b) {
+                return m_jointRuns[size_t(a)].count > m_jointRuns[size_t(b)].count;
+            });
+            for (std::vector<int>& lane : m_laneJoints) lane.clear();
+            size_t slots = 0;
+            for (const int ri : m_runOrder) {
+                const JointRun& run = m_jointRuns[size_t(ri)];
+                std::vector<int>& lane = *std::min_element(
+                    m_laneJoints.begin(), m_laneJoints.end(),
+                    [](const std::vector<int>& a, const std::vector<int>& b) { return a.size() < b.size(); });
+                lane.insert(lane.end(), m_split->solveOrder.begin() + run.offset,
+                            m_split->solveOrder.begin() + run.offset + run.count);
+                slots = std::max(slots, lane.size());
+            }
+            for (size_t t = 0; t < slots; ++t) {
+                const size_t at = m_jointLaneInts.size();
+                m_jointLaneInts.resize(at + 4 * W, 0);
+                m_jointLaneIterations.resize(m_jointLaneIterations.size() + W, 0.0f);
+                float* iterations = m_jointLaneIterations.data() + m_jointLaneIterations.size() - W;
+                int blocks = 0;
+                for (int i = 0; i < W; ++i) {
+                    if (t >= m_laneJoints[size_t(i)].size()) continue;  // on the fixed body, no rows
+                    const btoclConstraint& c = p.constraints[size_t(m_laneJoints[size_t(i)][t])];
+                    m_jointLaneInts[at + size_t(i)] = c.bodyA;
+                    m_jointLaneInts[at + W + size_t(i)] = c.bodyB;
+                    m_jointLaneInts[at + 2 * W + size_t(i)] = c.numRows[BTOCL_ROWS_JOINT];
+                    m_jointLaneInts[at + 3 * W + size_t(i)] = c.firstRow[BTOCL_ROWS_JOINT] - m_firstJointRow;
+                    iterations[i] = BTOCL_CONSTRAINT_ITERATIONS(c);
+                    blocks = std::max(blocks, c.numRows[BTOCL_ROWS_JOINT]);
+                }
+                m_jointSlots.push_back(JointLaneSlot{numBlocks, blocks});
+                numBlocks += blocks;
+            }
+        }
+    m_jointSlotStart[(BTOCL_NUM_SETS + 1) * kMaxShares] = int(m_jointSlots.size());
+    m_jointBlocks.resize(size_t(numBlocks) * BTOCL_SOLVE_ROW_FLOATS * W);
+    m_jointApplied.resize(size_t(numBlocks) * W);
+    m_jointRowMap.resize(p.rows.size());
+    parallelFor(m_jointSlots.size(), [&](size_t t) {
+        placeJointRows(p.rows.data(), m_jointLaneInts.data() + t * 4 * W, m_jointSlots[t], m_jointBlocks.data(),
+                       m_jointApplied.data(), m_jointRowMap.data());
+    }, W * kContactConstraintWeight);
+}
+
+namespace {
+
+// Joint slots [first, end) in the normal pass: each lane's rows within their limits (a row's
+// floats 15 and 19), while its joint takes part in this iteration, as btoclSolveJointRows solves
+// them one joint at a time.
+BTOCL_LANES_TARGET void solveJointSlotRange(const JointLaneSlot* slots, const int* laneInts,
+                                            const float* laneIterations, const float* blocks, float* applied,
+                                            const float* perUnit, btoclBodyDelta* deltas, int first, int end,
+                                            int iteration) {
+    const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
+    const Lanes now = splat(float(iteration));
+    for (int t = first; t < end; ++t) {
+        const int* ints = laneInts + size_t(t) * 4 * W;
+        if (t + 1 < end) {  // the next slot's bodies, A then B, asked for
+            const int* next = ints + 4 * W;
+            for (int i = 0; i < 2 * W; ++i) __builtin_prefetch(deltas + next[i]);
+        }
+        LaneBodies A = loadBodies(deltas, perUnit, ints, 0, 0);
+        LaneBodies B = loadBodies(deltas, perUnit, ints + W, 0, 0);
+        const LaneMask rows = loadInts(ints + 2 * W);
+        const LaneMask takesPart = now < load(laneIterations + size_t(t) * W);
+        const JointLaneSlot& s = slots[t];
+        for (int k = 0; k < s.blocks; ++k) {
+            const float* row = blocks + size_t(s.firstBlock + k) * blockFloats;
+            solveRows(row, applied + size_t(s.firstBlock + k) * W, A, B, load(row + 15 * W), load(row + 19 * W), 0,
+                      (rows > k) & takesPart);
+        }
+        storeBodies(deltas, ints, 0, A);
+        storeBodies(deltas, ints + W, 0, B);
+    }
+}
+
+}  // namespace
+
+// A set's joints of `share` in one pass (the normal pass: joints take no other).
+void HostLaneSolve::solveJointSlots(StepProblem& p, const SetStep& step, int share) {
+    const size_t at = size_t(step.set) * kMaxShares + size_t(share);
+    solveJointSlotRange(m_jointSlots.data(), m_jointLaneInts.data(), m_jointLaneIterations.data(), m_jointBlocks.data(),
+                        m_jointApplied.data(), m_rows.perUnit.data(), p.deltas.data(), m_jointSlotStart[at],
+                        m_jointSlotStart[at + 1], step.iteration);
 }
 
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, int shares) {
     m_shares = std::max(1, std::min(shares, kMaxShares));
     m_flags = flags;
     m_split = &split;
-    m_jointConstraints.clear();
-    if (p.numJointRows() > 0) setUpJoints(p, split);
+    m_hasJoints = p.numJointRows() > 0;
+    if (m_hasJoints) setUpJoints(p, split);
     layOutLanes(laneSplit(), p.constraints.data(), p.regions, W, p.frictionRowsPerPoint(), m_shares, m_layout);
     setUpLaneRows(p, m_layout, m_rows);
     setUpBodyPerUnit(p, flags, m_rows.perUnit);
@@ -293,7 +409,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
             if (end > first) m_steps.push_back(SetStep{step.pass, first, end, set, step.iteration, false});
             // The set's joints after its contacts (a group's come after its contacts): in the
             // velocity passes alone, as the one-lane walk solves them.
-            if (step.pass == BTOCL_PASS_NORMAL && !m_jointConstraints.empty() &&
+            if (step.pass == BTOCL_PASS_NORMAL && m_hasJoints &&
                 m_setJointRunStart[size_t(set) + 1] > m_setJointRunStart[size_t(set)])
                 m_steps.push_back(SetStep{step.pass, 0, 0, set, step.iteration, true});
         }
@@ -308,7 +424,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     shareSteps(int(m_steps.size()), m_shares, onPool, [&](int k, int share) {
         const SetStep& step = m_steps[size_t(k)];
         if (step.joints) {
-            solveJointRuns(p, step, share);
+            solveJointSlots(p, step, share);
             return;
         }
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
@@ -317,10 +433,10 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());
-    const size_t contactRows = m_jointConstraints.empty() ? rowMap.size() : size_t(m_firstJointRow);
+    const size_t contactRows = m_hasJoints ? size_t(m_firstJointRow) : rowMap.size();
     for (size_t r = 0; r < contactRows; ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
-    const float* jointApplied = m_jointRows.rowRecords().applied;
-    for (size_t r = contactRows; r < rowMap.size(); ++r) p.appliedImpulses[r] = jointApplied[r - contactRows];
+    for (size_t r = contactRows; r < rowMap.size(); ++r)
+        p.appliedImpulses[r] = m_jointApplied[size_t(m_jointRowMap[r - contactRows])];
     return iterations;
 }
 

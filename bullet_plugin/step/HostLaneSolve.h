@@ -4,12 +4,11 @@
 // so that each lane's results are the one-lane walk's to the bit (HostSolve, the claimed launch);
 // each set's bundles shared out to the host's threads, the calling one among them. Contact rows
 // in passes that pair, and joints' rows beside them (stepFitsHostLanes, StepPolicy.h): a group
-// holds its contacts first, so each set's contacts go through the lanes and its joints follow,
-// one group a lane, as the one-lane walk solves them.
+// holds its contacts first, so each set's contacts go through the lanes and its joints follow in
+// lanes of their own, each lane walking some of its groups' joints one group after another.
 #pragma once
 
 #include "BatchLayout.h"
-#include "HostSolve.h"
 #include "LaneLayout.h"
 #include "StepProblem.h"
 #include "row_setup.h"
@@ -27,6 +26,12 @@ void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out);
 // `out` (all but its perUnit, setUpBodyPerUnit's) and p.lateralDirs, as setup.cl's setupLaneSlots
 // sets them up (the same bits), on the host's threads. Called only where HostLaneSolve::available().
 void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out);
+
+// A slot of joints in the host's lanes (HostLaneSolve): each lane's next joint, their rows in
+// `blocks` blocks of W rows (btoclSolveRow's floats, each float of the W rows together) from firstBlock.
+struct JointLaneSlot {
+    int firstBlock, blocks;
+};
 
 class HostLaneSolve {
 public:
@@ -59,10 +64,10 @@ public:
     // through the lanes before its joints, to the bits of each group walked in order.
     static bool contactsLead(const BatchLayout& split, const std::vector<btoclConstraint>& constraints);
     // The split the lanes were laid out from: the step's, or its contacts alone where it has joints.
-    const BatchLayout& laneSplit() const { return m_jointConstraints.empty() ? *m_split : m_contactSplit; }
+    const BatchLayout& laneSplit() const { return m_hasJoints ? m_contactSplit : *m_split; }
 
 private:
-    // One set of one pass: its bundles, or (joints) its groups' joints, one group a lane.
+    // One set of one pass: its bundles, or (joints) its joints' slots.
     struct SetStep {
         int pass, firstBundle, endBundle;
         int set, iteration;
@@ -73,22 +78,32 @@ private:
         int offset, count, share;
     };
     void setUpJoints(const StepProblem& p, const BatchLayout& split);
-    void solveJointRuns(StepProblem& p, const SetStep& step, int share);
+    void setUpJointLanes(const StepProblem& p);
+    void solveJointSlots(StepProblem& p, const SetStep& step, int share);
 
     LaneLayout m_layout;
     std::vector<SetStep> m_steps;
     int m_shares = 1;
     int m_flags = 0, m_numIterations = 0;
     LaneRows m_rows;
-    // A step with joints: the split's contacts (m_contactSplit) go through the lanes; each set's
-    // joints are walked one group a lane after its contacts, from their own rows.
+    // A step with joints: the split's contacts (m_contactSplit) go through the lanes as above;
+    // each set's joints of a share follow them in lanes of their own: every lane walks some of
+    // the share's runs one after another, and slot t holds each lane's t-th joint.
     const BatchLayout* m_split = nullptr;
+    bool m_hasJoints = false;
     BatchLayout m_contactSplit;
-    std::vector<JointRun> m_jointRuns;              // by set, in the split's order
+    std::vector<JointRun> m_jointRuns;  // by set, in the split's order
     std::array<int, BTOCL_NUM_SETS + 2> m_setJointRunStart{};
-    int m_firstJoint = 0, m_firstJointRow = 0;      // the first joint's constraint, its first row
-    std::vector<btoclConstraint> m_jointConstraints;  // the joints', rows from 0
-    HostSolve m_jointRows;                            // their rows as the one-lane walk reads them
+    int m_firstJointRow = 0;  // the first joint row (p.rows holds the joints' rows alone, from 0)
+    std::vector<JointLaneSlot> m_jointSlots;
+    std::array<int, (BTOCL_NUM_SETS + 1) * kMaxShares + 1> m_jointSlotStart{};  // of set * kMaxShares + share
+    std::vector<int> m_jointLaneInts;          // per slot: W bodies A, W bodies B, W rows, W first rows
+    std::vector<float> m_jointLaneIterations;  // per slot and lane: its joint's iterations (0: none)
+    HostArray<float> m_jointBlocks;            // the joints' rows, blocks of W
+    std::vector<float> m_jointApplied;         // their impulses, by wide row (block * W + lane)
+    std::vector<int> m_jointRowMap;            // per joint row (from 0): its wide row
+    std::vector<int> m_runOrder;               // scratch: a set's runs of a share, longest first
+    std::vector<std::vector<int>> m_laneJoints;  // scratch: each lane's joints
 };
 
 }  // namespace btocl
