@@ -211,14 +211,26 @@ struct SplitRun {
 };
 
 // Contacts and joints (pyramidAndChains), the same with every other joint taking part in the
-// first 3 iterations alone, or contacts alone (a pyramid, whose split steps on the host may run in lanes).
-enum class SplitScene { WithJoints, JointsOfFewIterations, ContactsOnly };
+// first 3 iterations alone, or contacts alone (a pyramid, whose split steps on the host may run in
+// lanes), or a pyramid built sunk into itself and the ground (every row 0.08 m into the one below),
+// whose points take push impulses for many steps.
+enum class SplitScene { WithJoints, JointsOfFewIterations, ContactsOnly, SunkPyramid };
+
+void sunkPyramid(World& w, int base) {
+    w.addGround();
+    for (int row = 0; row < base; ++row)
+        for (int i = 0; i < base - row; ++i)
+            w.addUnitBox(btVector3(btScalar(i + 0.5 * row - 0.5 * (base - 1)), btScalar(0.45) + btScalar(0.92) * row, 0),
+                         btscenes::stackedBox());
+}
 
 SplitRun runSplit(int onHost, Variant v, int steps, size_t parallelFrom = btocl::kMinParallelItems,
                   SplitScene scene = SplitScene::WithJoints) {
     btocl::test::ParallelFrom threshold(parallelFrom);
     World w(SolverKind::OpenCL, splitSteps(onHost));
-    if (scene != SplitScene::ContactsOnly) {
+    if (scene == SplitScene::SunkPyramid) {
+        sunkPyramid(w, 10);
+    } else if (scene != SplitScene::ContactsOnly) {
         pyramidAndChains(w);
         if (scene == SplitScene::JointsOfFewIterations)
             for (size_t k = 0; k < w.constraints().size(); k += 2) w.constraints()[k]->setOverrideNumSolverIterations(3);
@@ -283,18 +295,35 @@ TEST_CASE("a split step solved on the calling thread gives the claimed launch's 
     CHECK(host.state == device.state);
 }
 
-TEST_CASE("joints of fewer iterations than the contacts' in the host's lanes give the claimed launch's bits",
-          "[host][determinism][lanes]") {
-    // A joint's rows take part while the iteration is under its own count: in the host's lanes a
-    // lane whose joint has stopped is masked, its bodies left as they are.
-    const SplitRun host = runSplit(1, Variant::Plain, 40, 1, SplitScene::JointsOfFewIterations);
-    const SplitRun device = runSplit(0, Variant::Plain, 40, btocl::kMinParallelItems, SplitScene::JointsOfFewIterations);
+namespace {
+
+// `scene`'s split steps in the host's lanes (where the CPU has AVX2) against the claimed launch:
+// the same bits.
+void checkHostLanesBits(SplitScene scene) {
+    const SplitRun host = runSplit(1, Variant::Plain, 40, 1, scene);
+    const SplitRun device = runSplit(0, Variant::Plain, 40, btocl::kMinParallelItems, scene);
     CHECK(host.validationFailures == 0);
     if (!btocl::test::claimedRunsHere()) return;
     REQUIRE(host.stepsOnHost == 40);
     CHECK(host.stepsInLanes == (btocl::HostLaneSolve::available() ? 40 : 0));
     REQUIRE(host.state.size() == device.state.size());
     CHECK(host.state == device.state);
+}
+
+}  // namespace
+
+TEST_CASE("joints of fewer iterations than the contacts' in the host's lanes give the claimed launch's bits",
+          "[host][determinism][lanes]") {
+    // A joint's rows take part while the iteration is under its own count: in the host's lanes a
+    // lane whose joint has stopped is masked, its bodies left as they are.
+    checkHostLanesBits(SplitScene::JointsOfFewIterations);
+}
+
+TEST_CASE("push iterations in the host's lanes end where SI's would and give the claimed launch's bits",
+          "[host][determinism][lanes]") {
+    // SI ends its push iterations after one that changed no push impulse; the host's lanes pass
+    // over the rest (they would change nothing), the claimed launch walks them all: the same bits.
+    checkHostLanesBits(SplitScene::SunkPyramid);
 }
 
 TEST_CASE("a split step in the host's lanes gives the claimed launch's bits", "[host][determinism][lanes]") {

@@ -74,8 +74,9 @@ BTOCL_LANES_INLINE void applyImpulse(const float* row, LaneBodies& A, LaneBodies
     B.angZ = select(B.angZ, B.angZ + (ROW_FIELD(18) * B.apuZ) * impulse, active);
 }
 
-BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower,
-                                  Lanes upper, int push, LaneMask active) {
+// Returns the lanes whose impulse changed.
+BTOCL_LANES_INLINE LaneMask solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower,
+                                      Lanes upper, int push, LaneMask active) {
     const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
     const Lanes old = load(applied);
     const Lanes start = (push ? ROW_FIELD(15) : ROW_FIELD(3)) - old * ROW_FIELD(7);
@@ -89,6 +90,7 @@ BTOCL_LANES_INLINE void solveRows(const float* row, float* applied, LaneBodies& 
     const Lanes next = select(select(sum, upper, above), lower, below);
     store(select(old, next, active), applied);
     applyImpulse(row, A, B, delta, active);
+    return (delta != 0.0f) & active;
 }
 
 #undef ROW_FIELD
@@ -335,8 +337,9 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, i
 
 namespace {
 
-// lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle.
-BTOCL_LANES_TARGET void solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
+// lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle. Returns whether a push pass
+// changed any push impulse.
+BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
                                         float* pushApplied, btoclBodyDelta* deltas, int pass, int bundleIndex) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
@@ -344,6 +347,7 @@ BTOCL_LANES_TARGET void solveLaneBundle(const LaneLayout& layout, const LaneRows
     const float* rows = lanes.rows.data();
     const float* perUnit = lanes.perUnit.data();
     const btoclGroup& bundle = layout.bundles[size_t(bundleIndex)];
+    LaneMask pushChanged{};
     for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
         const btoclLaneSlot& s = layout.slots[size_t(slot)];
         const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
@@ -376,8 +380,8 @@ BTOCL_LANES_TARGET void solveLaneBundle(const LaneLayout& layout, const LaneRows
                     applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
                 } else if (push) {
                     active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
-                    solveRows(row, pushApplied + size_t(block) * W, A, B, splat(0.0f), splat(BTOCL_FLT_MAX), 1,
-                              active);
+                    pushChanged |= solveRows(row, pushApplied + size_t(block) * W, A, B, splat(0.0f),
+                                             splat(BTOCL_FLT_MAX), 1, active);
                 } else {
                     solveRows(row, applied + size_t(block) * W, A, B, splat(0.0f), splat(BTOCL_FLT_MAX), 0,
                               active);
@@ -387,6 +391,9 @@ BTOCL_LANES_TARGET void solveLaneBundle(const LaneLayout& layout, const LaneRows
         storeBodies(deltas, bodyA, push, A);
         storeBodies(deltas, bodyB, push, B);
     }
+    for (int i = 0; i < W; ++i)
+        if (pushChanged[i]) return true;
+    return false;
 }
 
 }  // namespace
@@ -421,14 +428,28 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     float* applied = m_rows.applied.data();
     float* pushApplied = m_rows.pushApplied.data();
     btoclBodyDelta* deltas = p.deltas.data();
+    // SI ends its push iterations after one that changed no push impulse (its residual 0, at its
+    // threshold): the rest would change nothing. Each share notes whether its bundles changed
+    // one, and an iteration whose previous changed none passes (the notes are read once every
+    // part of that iteration has run, so every thread passes alike). The same bits.
+    m_pushChanged.assign(size_t(passes.pushIterations) * size_t(m_shares), 0);
+    const auto pushChangedIn = [&](int iteration) {
+        for (int share = 0; share < m_shares; ++share)
+            if (m_pushChanged[size_t(iteration) * size_t(m_shares) + size_t(share)]) return true;
+        return false;
+    };
     shareSteps(int(m_steps.size()), m_shares, onPool, [&](int k, int share) {
         const SetStep& step = m_steps[size_t(k)];
         if (step.joints) {
             solveJointSlots(p, step, share);
             return;
         }
+        const bool push = step.pass == BTOCL_PASS_PUSH;
+        if (push && step.iteration > 0 && !pushChangedIn(step.iteration - 1)) return;
+        bool changed = false;
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
-            solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, b);
+            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, b);
+        if (push && changed) m_pushChanged[size_t(step.iteration) * size_t(m_shares) + size_t(share)] = 1;
     });
     // Every row's impulse back in gather order, as the write-back reads them.
     const std::vector<int>& rowMap = m_layout.rowMap;

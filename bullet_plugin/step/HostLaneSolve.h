@@ -83,6 +83,7 @@ private:
 
     LaneLayout m_layout;
     std::vector<SetStep> m_steps;
+    std::vector<unsigned char> m_pushChanged;  // per push iteration and share: a push impulse changed
     int m_shares = 1;
     int m_flags = 0, m_numIterations = 0;
     LaneRows m_rows;
