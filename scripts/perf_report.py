@@ -295,10 +295,16 @@ def startup_table(run_list):
     return lines
 
 
+# A lane block's row: BTOCL_LANE_ROW_FLOATS floats (kernels/btocl_shared.h).
+LANE_ROW_FLOATS = 19
+
+
 def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20")):
     """How far the split scenes' solve phase is from what the cores can do: row updates per second
-    per core, and the rows' stream against the measured bandwidth. Scenes at rest only: their
-    last step's counts stand for every step's, whose median solve time is read."""
+    per core, the bytes a row update moves, and the rows' stream against the measured bandwidth.
+    Scenes at rest only: their last step's counts stand for every step's, whose median solve
+    time is read. In lanes (simdLanes > 1) a row lies in a block of W rows, empty places too:
+    a row update moves its lane row and impulse over the layout's row fill."""
     hw = load(os.path.join(hardware_runs[-1][0], "bandwidth.json"))
     size = hw["bytes"]
     cores = hw["cores"]
@@ -309,10 +315,10 @@ def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20"
              "copies %.1f; %d threads read %.1f and copy %.1f. Last-level cache: %.0f MiB." % (
                  hw["arrayMiB"], one_core["readGBps"], one_core["copyGBps"], cores, all_cores["readGBps"],
                  all_cores["copyGBps"], l3_mib), "",
-             "| scene | rows | row updates a step | solve ms | ns per row update on a core | row updates per s per core "
-             "| rows' MiB (records and impulses) | bodies' and constraints' MiB | rows' stream GB/s "
-             "| of the %d cores' read bandwidth |" % cores,
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| scene | rows | row updates a step | solve ms | lanes (row fill) | ns per row update on a core "
+             "| row updates per s per core | bytes a row update moves | rows' MiB (records and impulses) "
+             "| bodies' and constraints' MiB | rows' stream GB/s | of the %d cores' read bandwidth |" % cores,
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     folder, _ = speed_runs[-1]
     for name in scenes:
         path = os.path.join(folder, name + ".json")
@@ -325,17 +331,25 @@ def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20"
         updates = d["iterations"] * rows + points  # every velocity iteration, and the warm start
         solve_ms = o["phasesMsMedian"]["solve"]
         ns_core = solve_ms * 1e6 * cores / updates
+        lanes = o.get("simdLanes") or 1
+        fill = o.get("laneRowFill") or 0
         # A row update reads the row's record and reads and writes its impulse; where the rows
         # outgrow the last-level cache, every pass streams them from memory. The bodies' records
         # and deltas and the constraints' records, read once a constraint in each pass, are
         # smaller and stay in the caches on these scenes.
-        row_bytes = size["solveRow"] + 2 * size["appliedImpulse"]
-        rows_mib = rows * (size["solveRow"] + size["appliedImpulse"]) / 2**20
+        if lanes > 1 and fill > 0:
+            record = LANE_ROW_FLOATS * 4 / fill
+            impulse = size["appliedImpulse"] / fill
+            lanes_text = "%d (%.2f)" % (lanes, fill)
+        else:
+            record, impulse, lanes_text = size["solveRow"], size["appliedImpulse"], "1"
+        row_bytes = record + 2 * impulse
+        rows_mib = rows * (record + impulse) / 2**20
         others_mib = (d["bodies"] * (size["body"] + size["bodyDelta"]) + constraints * size["constraint"]) / 2**20
         gbps = updates * row_bytes / (solve_ms * 1e-3) / 1e9
-        lines.append("| %s | %d | %.2fM | %.1f | %.1f | %.0fM | %.0f | %.1f | %.1f | %.0f%% |" % (
-            describe(d), rows, updates / 1e6, solve_ms, ns_core, 1e3 / ns_core, rows_mib, others_mib, gbps,
-            100.0 * gbps / all_cores["readGBps"]))
+        lines.append("| %s | %d | %.2fM | %.1f | %s | %.1f | %.0fM | %.0f | %.0f | %.1f | %.1f | %.0f%% |" % (
+            describe(d), rows, updates / 1e6, solve_ms, lanes_text, ns_core, 1e3 / ns_core, row_bytes, rows_mib,
+            others_mib, gbps, 100.0 * gbps / all_cores["readGBps"]))
     return lines
 
 
