@@ -13,7 +13,6 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstddef>
 #include <string>
 
@@ -375,11 +374,6 @@ void StepGatherer::packManifolds() {
 
 StepProblem& StepGatherer::finish() {
     StepProblem& p = m_problem;
-    // The joints' set-up (Bullet's getInfo1 and getInfo2) is the heaviest loop of a joint-heavy
-    // gather, too small to wake the host's threads for it alone: they wake while the manifolds
-    // are packed, and it runs on them.
-    if (m_joints.size() * kJointWeight >= minParallelItems() / kAwakeThresholdDivisor)
-        prewakeHostThreads(std::chrono::milliseconds(5));
     p.rowsOnDevice = m_setup == RowSetup::Device;
     packManifolds();  // a body with anisotropic friction clears rowsOnDevice
     p.setupParams.numPoints = int(p.points.size());
