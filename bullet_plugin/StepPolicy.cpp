@@ -102,7 +102,7 @@ bool stepFitsLanes(const StepProblem& p, const SolveSettings& settings, const bt
 }
 
 // The host's lanes also take a step whose joints' rows the gather set up (p.rows: theirs alone)
-// beside its contacts, each set's joints after its contacts one group a lane (HostLaneSolve).
+// beside its contacts, each set's joints after its contacts in lanes of their own (HostLaneSolve).
 bool stepFitsHostLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
     return p.rows.size() == size_t(p.numJointRows()) && (p.rows.empty() || p.numContactPoints() > 0) &&
            contactsFitLanes(p, settings, passes);

@@ -50,7 +50,7 @@ struct LaneRows {
 // Whether a step's rows can be solved in lanes: contact rows alone (no joint or rolling rows),
 // each point with `frictionPerPoint` friction rows.
 bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
-// The same but for joint rows, which the lanes leave to one group a lane (HostLaneSolve).
+// The same but for joint rows, which the contacts' lanes leave to lanes of their own (HostLaneSolve).
 bool contactRowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint);
 
 // `split` (the serial path's: one run a group) laid out in `lanes` lanes into `out`, its arrays
