@@ -199,8 +199,8 @@ BTOCL_LANES_TARGET void placeJointRows(const btoclRow* rows, const int* ints, co
         Lanes start{};
         for (int i = 0; i < W; ++i) {
             records[i] = reinterpret_cast<const float*>(&zero);
-            if (k >= ints[2 * W + i]) continue;
-            const int r = ints[3 * W + i] + k;
+            if (k >= ints[BTOCL_LANE_POINTS * W + i]) continue;
+            const int r = ints[BTOCL_LANE_FIRST_POINT * W + i] + k;
             lanes[i] = btoclSolveRowOf(rows[r], BTOCL_ROWS_JOINT);
             records[i] = reinterpret_cast<const float*>(&lanes[i]);
             start[i] = BTOCL_ROW_APPLIED(rows[r]);
@@ -254,17 +254,18 @@ void HostLaneSolve::setUpJointLanes(const StepProblem& p) {
             }
             for (size_t t = 0; t < slots; ++t) {
                 const size_t at = m_jointLaneInts.size();
-                m_jointLaneInts.resize(at + 4 * W, 0);
+                m_jointLaneInts.resize(at + BTOCL_LANE_INTS * W, 0);
                 m_jointLaneIterations.resize(m_jointLaneIterations.size() + W, 0.0f);
                 float* iterations = m_jointLaneIterations.data() + m_jointLaneIterations.size() - W;
                 int blocks = 0;
                 for (int i = 0; i < W; ++i) {
                     if (t >= m_laneJoints[size_t(i)].size()) continue;  // on the fixed body, no rows
                     const btoclConstraint& c = p.constraints[size_t(m_laneJoints[size_t(i)][t])];
-                    m_jointLaneInts[at + size_t(i)] = c.bodyA;
-                    m_jointLaneInts[at + W + size_t(i)] = c.bodyB;
-                    m_jointLaneInts[at + 2 * W + size_t(i)] = c.numRows[BTOCL_ROWS_JOINT];
-                    m_jointLaneInts[at + 3 * W + size_t(i)] = c.firstRow[BTOCL_ROWS_JOINT] - m_firstJointRow;
+                    int* ints = m_jointLaneInts.data() + at;
+                    ints[BTOCL_LANE_BODY_A * W + i] = c.bodyA;
+                    ints[BTOCL_LANE_BODY_B * W + i] = c.bodyB;
+                    ints[BTOCL_LANE_POINTS * W + i] = c.numRows[BTOCL_ROWS_JOINT];  // its rows
+                    ints[BTOCL_LANE_FIRST_POINT * W + i] = c.firstRow[BTOCL_ROWS_JOINT] - m_firstJointRow;
                     iterations[i] = BTOCL_CONSTRAINT_ITERATIONS(c);
                     blocks = std::max(blocks, c.numRows[BTOCL_ROWS_JOINT]);
                 }
@@ -277,7 +278,7 @@ void HostLaneSolve::setUpJointLanes(const StepProblem& p) {
     m_jointApplied.resize(size_t(numBlocks) * W);
     m_jointRowMap.resize(p.rows.size());
     parallelFor(m_jointSlots.size(), [&](size_t t) {
-        placeJointRows(p.rows.data(), m_jointLaneInts.data() + t * 4 * W, m_jointSlots[t], m_jointBlocks.data(),
+        placeJointRows(p.rows.data(), m_jointLaneInts.data() + t * BTOCL_LANE_INTS * W, m_jointSlots[t], m_jointBlocks.data(),
                        m_jointApplied.data(), m_jointRowMap.data());
     }, W * kContactConstraintWeight);
 }
@@ -294,14 +295,16 @@ BTOCL_LANES_TARGET void solveJointSlotRange(const JointLaneSlot* slots, const in
     const int blockFloats = BTOCL_SOLVE_ROW_FLOATS * W;
     const Lanes now = splat(float(iteration));
     for (int t = first; t < end; ++t) {
-        const int* ints = laneInts + size_t(t) * 4 * W;
+        const int* ints = laneInts + size_t(t) * BTOCL_LANE_INTS * W;
+        const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
+        const int* bodyB = ints + BTOCL_LANE_BODY_B * W;
         if (t + 1 < end) {  // the next slot's bodies, A then B, asked for
-            const int* next = ints + 4 * W;
-            for (int i = 0; i < 2 * W; ++i) __builtin_prefetch(deltas + next[i]);
+            const int* next = ints + BTOCL_LANE_INTS * W;
+            for (int i = 0; i < 2 * W; ++i) __builtin_prefetch(deltas + next[BTOCL_LANE_BODY_A * W + i]);
         }
-        LaneBodies A = loadBodies(deltas, perUnit, ints, 0, 0);
-        LaneBodies B = loadBodies(deltas, perUnit, ints + W, 0, 0);
-        const LaneMask rows = loadInts(ints + 2 * W);
+        LaneBodies A = loadBodies(deltas, perUnit, bodyA, 0, 0);
+        LaneBodies B = loadBodies(deltas, perUnit, bodyB, 0, 0);
+        const LaneMask rows = loadInts(ints + BTOCL_LANE_POINTS * W);
         const LaneMask takesPart = now < load(laneIterations + size_t(t) * W);
         const JointLaneSlot& s = slots[t];
         for (int k = 0; k < s.blocks; ++k) {
@@ -309,8 +312,8 @@ BTOCL_LANES_TARGET void solveJointSlotRange(const JointLaneSlot* slots, const in
             solveRows(row, applied + size_t(s.firstBlock + k) * W, A, B, load(row + 15 * W), load(row + 19 * W), 0,
                       (rows > k) & takesPart);
         }
-        storeBodies(deltas, ints, 0, A);
-        storeBodies(deltas, ints + W, 0, B);
+        storeBodies(deltas, bodyA, 0, A);
+        storeBodies(deltas, bodyB, 0, B);
     }
 }
 
@@ -326,7 +329,6 @@ void HostLaneSolve::solveJointSlots(StepProblem& p, const SetStep& step, int sha
 
 void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, int shares) {
     m_shares = std::max(1, std::min(shares, kMaxShares));
-    m_flags = flags;
     m_split = &split;
     m_hasJoints = p.numJointRows() > 0;
     if (m_hasJoints) setUpJoints(p, split);
@@ -408,7 +410,6 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     const int numPasses = p.constraints.empty() ? 0 : btoclPassCount(passes);
     int iterations = 0;
     m_steps.clear();
-    m_numIterations = passes.numIterations;
     for (int i = 0; i < numPasses; ++i) {
         const btoclPassStep step = btoclPassAt(passes, i);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {

@@ -85,7 +85,6 @@ private:
     std::vector<SetStep> m_steps;
     std::vector<unsigned char> m_pushChanged;  // per push iteration and share: a push impulse changed
     int m_shares = 1;
-    int m_flags = 0, m_numIterations = 0;
     LaneRows m_rows;
     // A step with joints: the split's contacts (m_contactSplit) go through the lanes as above;
     // each set's joints of a share follow them in lanes of their own: every lane walks some of
@@ -98,7 +97,7 @@ private:
     int m_firstJointRow = 0;  // the first joint row (p.rows holds the joints' rows alone, from 0)
     std::vector<JointLaneSlot> m_jointSlots;
     std::array<int, (BTOCL_NUM_SETS + 1) * kMaxShares + 1> m_jointSlotStart{};  // of set * kMaxShares + share
-    std::vector<int> m_jointLaneInts;          // per slot: W bodies A, W bodies B, W rows, W first rows
+    std::vector<int> m_jointLaneInts;          // per slot, as a contact slot's (BTOCL_LANE_*): rows, first row
     std::vector<float> m_jointLaneIterations;  // per slot and lane: its joint's iterations (0: none)
     HostArray<float> m_jointBlocks;            // the joints' rows, blocks of W
     std::vector<float> m_jointApplied;         // their impulses, by wide row (block * W + lane)
