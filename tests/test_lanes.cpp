@@ -325,6 +325,12 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
         CHECK(sameBits(set.applied, applied));
         CHECK(sameBits(set.pushApplied, pushApplied));
         CHECK(sameBits(std::vector<btoclFloat4>(p.lateralDirs.begin(), p.lateralDirs.end()), dirs));
+        // Streamed past the caches (as a large step's are), the same bits.
+        LaneRows streamed;
+        setUpLaneRows(p, l, streamed, LaneRowStores::Streamed);
+        CHECK(sameBits(streamed.rows, rows));
+        CHECK(sameBits(streamed.applied, applied));
+        CHECK(sameBits(streamed.pushApplied, pushApplied));
         inVectors += lanes.slotsInVectors();
         oneLane += l.slots.size() - lanes.slotsInVectors();
     }

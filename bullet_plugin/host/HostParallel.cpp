@@ -12,6 +12,14 @@
 namespace btocl {
 namespace {
 
+// A chunk may store past the caches (LaneRowSetup.cpp's rows): such stores are ordered by no
+// lock, so each thread drains its own before its chunks count as done.
+inline void drainStreamedStores() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_sfence();
+#endif
+}
+
 // A pause of some tens of nanoseconds in a wait on another core.
 inline void pauseCore() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -156,6 +164,7 @@ private:
             job.chunk(job.context, c);
             ++ran;
         }
+        drainStreamedStores();
         t_insideChunk = false;
         return ran;
     }

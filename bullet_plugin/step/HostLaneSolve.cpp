@@ -106,7 +106,37 @@ void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
     }, kRigidBodyWeight);
 }
 
-void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
+namespace {
+
+// From this size on a step's lane rows are streamed past the caches as they are set up (8 MiB:
+// block 12K's 51 MiB and the 3D pyramid's 12 are; pile 1,000's 1 MiB is not).
+constexpr size_t kStreamedRowsBytes = size_t(8) << 20;
+
+// The points of the slot two on and the bodies of the next lie scattered, and the setup waited
+// for them: asked for at `slot`, they come while it is set up.
+inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p, const LaneLayout& layout, size_t slot) {
+    const size_t numSlots = layout.slots.size();
+    const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
+    if (slot + 2 < numSlots) {
+        const int* later = ints + 2 * BTOCL_LANE_INTS * W;
+        for (int i = 0; i < W; ++i) {
+            const char* first = reinterpret_cast<const char*>(p.points.data() + later[BTOCL_LANE_FIRST_POINT * W + i]);
+            const int bytes = later[BTOCL_LANE_POINTS * W + i] * int(sizeof(btoclContactPoint));
+            for (int line = 0; line < bytes; line += 64) __builtin_prefetch(first + line);
+        }
+    }
+    if (slot + 1 < numSlots) {
+        const int* next = ints + BTOCL_LANE_INTS * W;
+        for (int i = 0; i < 2 * W; ++i) {
+            const char* body = reinterpret_cast<const char*>(p.bodies.data() + next[BTOCL_LANE_BODY_A * W + i]);
+            for (int line = 0; line < int(sizeof(btoclBody)); line += 64) __builtin_prefetch(body + line);
+        }
+    }
+}
+
+}  // namespace
+
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, LaneRowStores stores) {
     if (layout.lanes != W)
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
                                   ", not " + std::to_string(layout.lanes));
@@ -116,16 +146,22 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out) {
     out.pushApplied.resize(size_t(layout.numBlocks) * W);
     out.inVectors.resize(numSlots);
     p.lateralDirs.resize(2 * p.points.size());
+    // Rows larger than the caches near the cores are streamed past them: the solve reads them from
+    // memory either way, and a line written whole need not be read first. Smaller ones stay, for
+    // the solve's first pass.
+    const bool stream = stores == LaneRowStores::Streamed || out.rows.size() * sizeof(float) > kStreamedRowsBytes;
     parallelFor(numSlots, [&](size_t slot) {
         const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
+        askForSlotInputs(p, layout, slot);
         out.inVectors[slot] = setUpSlotRowsInLanes(p.points.data(), p.bodies.data(), layout.slots[slot], ints,
                                                    out.rows.data(), out.applied.data(), out.pushApplied.data(),
-                                                   p.lateralDirs.data(), p.setupParams);
+                                                   p.lateralDirs.data(), p.setupParams, stream);
         if (out.inVectors[slot]) return;
         for (int lane = 0; lane < W; ++lane)
             btoclSetupLaneRows(p.points.data(), p.bodies.data(), layout.slots[slot], ints, lane, out.rows.data(),
                                out.applied.data(), out.pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
     }, W * kContactConstraintWeight);
+    if (stream) finishStreamedRows();  // the pool's threads drained theirs as they finished (HostParallel.cpp)
 }
 
 bool HostLaneSolve::contactsLead(const BatchLayout& split, const std::vector<btoclConstraint>& constraints) {

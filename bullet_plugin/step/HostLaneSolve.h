@@ -22,10 +22,15 @@ namespace btocl {
 // on the host's threads: what a lanes solve reads beside its rows, on any device.
 void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out);
 
+// How setUpLaneRows stores its blocks: past the caches where they outgrow those near the cores,
+// or always (the same bits either way).
+enum class LaneRowStores { BySize, Streamed };
+
 // Every contact row of `layout` (eight lanes: HostLaneSolve::kLanes) set up from p.points into
 // `out` (all but its perUnit, setUpBodyPerUnit's) and p.lateralDirs, as setup.cl's setupLaneSlots
 // sets them up (the same bits), on the host's threads. Called only where HostLaneSolve::available().
-void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out);
+void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out,
+                   LaneRowStores stores = LaneRowStores::BySize);
 
 // A slot of joints in the host's lanes (HostLaneSolve): each lane's next joint, their rows in
 // `blocks` blocks of W rows (btoclSolveRow's floats, each float of the W rows together) from firstBlock.

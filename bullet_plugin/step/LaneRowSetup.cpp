@@ -206,16 +206,25 @@ BTOCL_LANES_INLINE void pointRowLanes(PointRowLanes& out, const btoclContactPoin
     if (two) frictionRowLanes(out.friction[1], out.dir2, A, B, relPos1, relPos2, friction, prm);
 }
 
+// With `stream`, stored past the caches: the rows are written whole, so their lines need not be
+// read first.
+BTOCL_LANES_INLINE void storeRow(Lanes v, float* p, bool stream) {
+    if (stream)
+        _mm256_stream_ps(p, (__m256)v);
+    else
+        store(v, p);
+}
+
 // A row into its block of the lane layout (lanes not in `active` zero), its impulses with it.
 BTOCL_LANES_INLINE void storeBlock(const RowLanes& r, LaneMask active, float* block, float* applied,
-                                   float* pushApplied) {
+                                   float* pushApplied, bool stream) {
     for (int f = 0; f < BTOCL_LANE_ROW_FLOATS; ++f) {
         // Float 15 as lane_setup.h's btoclStoreLaneRow writes it: the push rhs, else float 19.
         const Lanes value = f == BTOCL_LANE_ROW_SHARED ? select(r.f[19], r.f[15], r.f[15] != 0.0f) : r.f[f];
-        store(select(splat(0.0f), value, active), block + f * W);
+        storeRow(select(splat(0.0f), value, active), block + f * W, stream);
     }
-    store(select(splat(0.0f), r.impulse, active), applied);
-    store(splat(0.0f), pushApplied);
+    storeRow(select(splat(0.0f), r.impulse, active), applied, stream);
+    storeRow(splat(0.0f), pushApplied, stream);
 }
 
 // The lanes' rows, each to its own record: four floats of a row at a time, eight rows turned
@@ -237,7 +246,7 @@ BTOCL_LANES_INLINE void storeRecords(const RowLanes& r, btoclSolveRow* const* to
 
 BTOCL_LANES_TARGET bool slotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                                         const int* ints, float* wide, float* applied, float* pushApplied,
-                                        btoclFloat4* lateralDirs, const btoclSetupParams& prm) {
+                                        btoclFloat4* lateralDirs, const btoclSetupParams& prm, bool stream) {
     const int* numPoints = ints + BTOCL_LANE_POINTS * W;
     const int* firstPoint = ints + BTOCL_LANE_FIRST_POINT * W;
     for (int i = 0; i < W; ++i)
@@ -260,10 +269,11 @@ BTOCL_LANES_TARGET bool slotRowsInLanes(const btoclContactPoint* points, const b
         pointRowLanes(rows, pt, A, B, prm, two);
         const size_t blockFloats = BTOCL_LANE_ROW_FLOATS * W;
         const int normal = s.normalBlock + k, friction = s.frictionBlock + k * (two ? 2 : 1);
-        storeBlock(rows.normal, active, wide + normal * blockFloats, applied + normal * W, pushApplied + normal * W);
+        storeBlock(rows.normal, active, wide + normal * blockFloats, applied + normal * W, pushApplied + normal * W,
+                   stream);
         for (int d = 0; d < (two ? 2 : 1); ++d)
             storeBlock(rows.friction[d], active, wide + (friction + d) * blockFloats, applied + (friction + d) * W,
-                       pushApplied + (friction + d) * W);
+                       pushApplied + (friction + d) * W, stream);
         for (int i = 0; i < W; ++i) {
             if (k >= numPoints[i]) continue;
             const size_t point = size_t(firstPoint[i] + k);
@@ -319,9 +329,11 @@ BTOCL_LANES_TARGET bool pointRowsInLanes(StepProblem& p, size_t first, size_t co
 
 bool setUpSlotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                           const int* ints, float* wide, float* applied, float* pushApplied, btoclFloat4* lateralDirs,
-                          const btoclSetupParams& prm) {
-    return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm);
+                          const btoclSetupParams& prm, bool stream) {
+    return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
 }
+
+BTOCL_LANES_TARGET void finishStreamedRows() { _mm_sfence(); }
 
 bool setUpPointRowsInLanes(StepProblem& p, size_t first, size_t count, HostSolve& into) {
     return pointRowsInLanes(p, first, count, into.rowRecords());
