@@ -113,14 +113,17 @@ namespace {
 constexpr size_t kStreamedRowsBytes = size_t(8) << 20;
 
 // The points of the slot two on and the bodies of the next lie scattered, and the setup waited
-// for them: asked for at `slot`, they come while it is set up.
-inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p, const LaneLayout& layout, size_t slot) {
+// for them: asked for at `slot`, they come while it is set up. Inlined: called, it cost the loop
+// more than it saved.
+inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p, const LaneLayout& layout,
+                                                            size_t slot) {
     const size_t numSlots = layout.slots.size();
     const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
     if (slot + 2 < numSlots) {
         const int* later = ints + 2 * BTOCL_LANE_INTS * W;
         for (int i = 0; i < W; ++i) {
-            const char* first = reinterpret_cast<const char*>(p.points.data() + later[BTOCL_LANE_FIRST_POINT * W + i]);
+            const char* first =
+                reinterpret_cast<const char*>(p.points.data() + later[BTOCL_LANE_FIRST_POINT * W + i]);
             const int bytes = later[BTOCL_LANE_POINTS * W + i] * int(sizeof(btoclContactPoint));
             for (int line = 0; line < bytes; line += 64) __builtin_prefetch(first + line);
         }
@@ -149,7 +152,8 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, Lane
     // Rows larger than the caches near the cores are streamed past them: the solve reads them from
     // memory either way, and a line written whole need not be read first. Smaller ones stay, for
     // the solve's first pass.
-    const bool stream = stores == LaneRowStores::Streamed || out.rows.size() * sizeof(float) > kStreamedRowsBytes;
+    const bool stream =
+        stores == LaneRowStores::Streamed || out.rows.size() * sizeof(float) > kStreamedRowsBytes;
     parallelFor(numSlots, [&](size_t slot) {
         const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
         askForSlotInputs(p, layout, slot);
