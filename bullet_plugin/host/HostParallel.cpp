@@ -12,14 +12,6 @@
 namespace btocl {
 namespace {
 
-// A chunk may store past the caches (LaneRowSetup.cpp's rows): such stores are ordered by no
-// lock, so each thread drains its own before its chunks count as done.
-inline void drainStreamedStores() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_sfence();
-#endif
-}
-
 // A pause of some tens of nanoseconds in a wait on another core.
 inline void pauseCore() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -164,7 +156,7 @@ private:
             job.chunk(job.context, c);
             ++ran;
         }
-        drainStreamedStores();
+        drainStreamedStores();  // a chunk's stores past the caches, before its count
         t_insideChunk = false;
         return ran;
     }
@@ -256,6 +248,12 @@ void runSharedSteps(int numSteps, int shares, bool onPool, void (*part)(void*, i
 }
 
 int hostThreads() { return pool().threads(); }
+
+void drainStreamedStores() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_sfence();
+#endif
+}
 
 void prewakeHostThreads(std::chrono::microseconds spin) { pool().prewake(spin); }
 

@@ -65,6 +65,11 @@ constexpr size_t kAwakeThresholdDivisor = 8;
 // a chunk itself) runs its chunks on its own thread. chunk must not throw.
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
+// Stores past the caches (LaneRowSetup.cpp's streamed rows) are ordered by no lock: a thread that
+// made some drains them before another may read what they wrote. The pool's threads drain theirs
+// as they finish their chunks of a loop; a caller drains what it stored itself.
+void drainStreamedStores();
+
 // The threads a loop of n items of `weight` would run on (parallelFor's rule, the pool awake).
 inline int threadsForLoop(size_t n, size_t weight) {
     return n * weight >= minParallelItems() / kAwakeThresholdDivisor ? hostThreads() : 1;

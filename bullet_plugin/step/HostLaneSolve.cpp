@@ -108,8 +108,9 @@ void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
 
 namespace {
 
-// From this size on a step's lane rows are streamed past the caches as they are set up (8 MiB:
-// block 12K's 51 MiB and the 3D pyramid's 12 are; pile 1,000's 1 MiB is not).
+// From this size on a step's lane rows are streamed past the caches as they are set up: rows
+// that outgrow the caches near the cores (docs/performance.md, "Lane rows asked for ahead and
+// streamed").
 constexpr size_t kStreamedRowsBytes = size_t(8) << 20;
 
 // The points of the slot two on and the bodies of the next lie scattered, and the setup waited
@@ -165,7 +166,7 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, Lane
             btoclSetupLaneRows(p.points.data(), p.bodies.data(), layout.slots[slot], ints, lane, out.rows.data(),
                                out.applied.data(), out.pushApplied.data(), p.lateralDirs.data(), &p.setupParams, W);
     }, W * kContactConstraintWeight);
-    if (stream) finishStreamedRows();  // the pool's threads drained theirs as they finished (HostParallel.cpp)
+    if (stream) drainStreamedStores();  // the pool's threads drained theirs as they finished
 }
 
 bool HostLaneSolve::contactsLead(const BatchLayout& split, const std::vector<btoclConstraint>& constraints) {

@@ -333,8 +333,6 @@ bool setUpSlotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodi
     return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
 }
 
-BTOCL_LANES_TARGET void finishStreamedRows() { _mm_sfence(); }
-
 bool setUpPointRowsInLanes(StepProblem& p, size_t first, size_t count, HostSolve& into) {
     return pointRowsInLanes(p, first, count, into.rowRecords());
 }

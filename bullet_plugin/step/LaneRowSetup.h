@@ -27,14 +27,10 @@ inline bool pointInLanes(const btoclContactPoint& pt, int solverMode) {
 // and `pushApplied` and its points' friction directions into lateralDirs, as lane_setup.h's
 // btoclSetupLaneRows writes them for each lane, where every point of the slot is one the lanes
 // take. Returns false, having written nothing, where one is not. stream: the blocks go past the
-// caches (see finishStreamedRows).
+// caches (see drainStreamedStores, HostParallel.h).
 bool setUpSlotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                           const int* ints, float* wide, float* applied, float* pushApplied, btoclFloat4* lateralDirs,
                           const btoclSetupParams& prm, bool stream);
-
-// Where setUpSlotRowsInLanes streams its blocks past the caches, a thread calls this once done
-// with its slots, before any other may read what they wrote.
-void finishStreamedRows();
 
 // Points [first, first + count) of p (count at most 8, gather order): their normal and friction
 // rows into `into` (HostSolve::setRow's records) and their friction directions into
