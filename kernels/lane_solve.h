@@ -18,6 +18,7 @@ typedef struct {
     __global const int* lanes;             // BTOCL_LANE_INTS * W ints a slot
     __global const float* bodyPerUnit;  // per body, BTOCL_BODY_PER_UNIT_FLOATS (set by the host)
     __global const float* rows;
+    __global int* slotPushes;  // per slot: a row with a push share, noted by the first push pass
     int frictionPerPoint;
 } btoclLaneBuffers;
 
@@ -169,12 +170,15 @@ BTOCL_SOLVE_INLINE void btoclWarmStartLaneRows(__global const float* row, __glob
 
 // One slot in one pass: its lanes' constraints as btoclSolveConstraint solves each in a pass that
 // pairs (btoclPassPairs), the warm start or a push pass: contact rows alone, in their order.
-// hasNext: the bundle has a slot after this one.
+// hasNext: the bundle has a slot after this one. Few rows have a push share (deep points alone):
+// the first push pass visits every slot and notes which have one, the later ones visit those
+// alone (a slot without one changes nothing).
 BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const btoclLaneBuffers* lb, int slot, int pass,
-                                           int hasNext) {
+                                           int iteration, int hasNext) {
+    const int push = pass == BTOCL_PASS_PUSH;
+    if (push && iteration > 0 && !lb->slotPushes[slot]) return;
     const btoclLaneSlot s = lb->slots[slot];
     __global const int* lanes = lb->lanes + slot * (BTOCL_LANE_INTS * BTOCL_LANES);
-    const int push = pass == BTOCL_PASS_PUSH;
     const btoclLanesI bodyA = BTOCL_CAT(vload, BTOCL_LANES)(0, lanes + BTOCL_LANE_BODY_A * BTOCL_LANES);
     const btoclLanesI bodyB = BTOCL_CAT(vload, BTOCL_LANES)(0, lanes + BTOCL_LANE_BODY_B * BTOCL_LANES);
     const btoclLanesI numPoints = BTOCL_CAT(vload, BTOCL_LANES)(0, lanes + BTOCL_LANE_POINTS * BTOCL_LANES);
@@ -195,6 +199,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
     btoclLaneBodies A = btoclLoadLaneBodies(b, lb, bodyA, push, pass == BTOCL_PASS_WARMSTART);
     btoclLaneBodies B = btoclLoadLaneBodies(b, lb, bodyB, push, pass == BTOCL_PASS_WARMSTART);
     const int blockFloats = BTOCL_LANE_ROW_FLOATS * BTOCL_LANES;
+    btoclLanesI pushes = 0;
     if (pass == BTOCL_PASS_FRICTION) {
         const int perPoint = lb->frictionPerPoint;
         for (int k = 0; k < s.frictionBlocks; ++k) {
@@ -217,6 +222,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
                 btoclWarmStartLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, active);
             } else if (push) {
                 active &= btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) != 0.0f;  // no push share: skipped
+                pushes |= active;
                 btoclSolveLaneRows(row, b->pushApplied + block * BTOCL_LANES, &A, &B, (btoclLanesF)0.0f,
                                    (btoclLanesF)BTOCL_FLT_MAX, 1, active);
             } else {
@@ -227,13 +233,15 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
     }
     btoclStoreLaneBodies(b, bodyA, push, &A);
     btoclStoreLaneBodies(b, bodyB, push, &B);
+    if (push && iteration == 0) lb->slotPushes[slot] = any(pushes);
 }
 
 // A bundle (a btoclGroup whose offset and count are its slots) in one pass, slot after slot.
 BTOCL_SOLVE_INLINE float btoclSolveLaneBundle(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
-                                              btoclGroup bundle, int pass) {
+                                              btoclGroup bundle, int pass, int iteration) {
     const int end = bundle.offset + bundle.count;
-    for (int slot = bundle.offset; slot < end; ++slot) btoclSolveLaneSlot(b, lb, slot, pass, slot + 1 < end);
+    for (int slot = bundle.offset; slot < end; ++slot)
+        btoclSolveLaneSlot(b, lb, slot, pass, iteration, slot + 1 < end);
     return 0.0f;
 }
 

@@ -292,7 +292,7 @@ BTOCL_SOLVE_INLINE void claimedStep(const btoclSolveBuffers* bp, const btoclLane
                             const btoclGroup g = groups[group];
 #if defined(BTOCL_LANES) && BTOCL_LANES > 1
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                         \
-    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS)                                                    \
+    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS, p.iteration)                                      \
                : solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, \
                                        passSeed))
 #else
@@ -336,9 +336,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
     float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,
-    __global const float* bodyPerUnit, __global const float* wideRows, int frictionPerPoint) {
+    __global const float* bodyPerUnit, __global const float* wideRows, int frictionPerPoint,
+    __global int* slotPushes) {
     const btoclSolveBuffers b = BTOCL_SOLVE_BUFFERS_OF_PARAMS;
-    const btoclLaneBuffers lb = {slots, lanes, bodyPerUnit, wideRows, frictionPerPoint};
+    const btoclLaneBuffers lb = {slots, lanes, bodyPerUnit, wideRows, slotPushes, frictionPerPoint};
     claimedStep(&b, &lb, BTOCL_LANES, groups, batchEnd, control, setGroupStart, progress, numSlots, flags, threshold,
                 schedule);
 }

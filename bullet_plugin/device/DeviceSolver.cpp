@@ -119,6 +119,7 @@ void DeviceSolver::arrangeInLanes(StepProblem& p, const LaneLayout& lanes, const
     m_bundles.enqueueWrite(m_rt, lanes.bundles);
     m_setBundleStart.enqueueWrite(m_rt, lanes.setBundleStart.data(), lanes.setBundleStart.size());
     m_slots.enqueueWrite(m_rt, lanes.slots);
+    m_slotPushes.reserve(m_rt, std::max<size_t>(1, lanes.slots.size()));
     m_lanes.enqueueWrite(m_rt, lanes.laneInts);
     m_rowMap.enqueueWrite(m_rt, lanes.rowMap);
     if (m_numSlots == 0) return;
@@ -208,7 +209,7 @@ void DeviceSolver::launchInLanes(const StepPlan& plan, const SolveSettings& s) {
     bindSolveBuffers(m_inLanes, bundles);
     setArgsFrom(m_inLanes, kSolveBufferArgs, m_setBundleStart.buffer(), m_progress.buffer(), m_numSlots, s.flags,
                 s.residualThreshold, passes, m_slots.buffer(), m_lanes.buffer(), m_bodyPerUnit.buffer(),
-                m_wideRows.buffer(), m_frictionPerPoint);
+                m_wideRows.buffer(), m_frictionPerPoint, m_slotPushes.buffer());
     m_rt.launch(m_inLanes, size_t(workGroups), 1, "launching solveStepInLanes");
 }
 
@@ -255,7 +256,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     }
     if (m_inLanes()) {
         bindScratch(m_inLanes, z);
-        setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, 1);
+        setArgsFrom(m_inLanes, kSolveBufferArgs, z, z, none, none, noThreshold, noPasses, z, z, z, z, 1, z);
         warm.launch(m_inLanes, m_rt.computeUnits(), 1);
         setArgs(m_setupLanes, z, z, z, z, z, z, z, z, noPoints, none);
         warm.launch(m_setupLanes, grid, kSlotsPerGroup);

@@ -381,9 +381,11 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, i
 namespace {
 
 // lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle. Returns whether a push pass
-// changed any push impulse.
+// changed any push impulse. A push pass skips the slots with no push share (slotPushes, noted
+// by the first push iteration, which visits them all) as lane_solve.h does.
 BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
-                                        float* pushApplied, btoclBodyDelta* deltas, int pass, int bundleIndex) {
+                                        float* pushApplied, btoclBodyDelta* deltas, int pass, int iteration,
+                                        unsigned char* slotPushes, int bundleIndex) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
     const int blockFloats = BTOCL_LANE_ROW_FLOATS * W;
@@ -392,6 +394,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
     const btoclGroup& bundle = layout.bundles[size_t(bundleIndex)];
     LaneMask pushChanged{};
     for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
+        if (push && iteration > 0 && !slotPushes[slot]) continue;
         const btoclLaneSlot& s = layout.slots[size_t(slot)];
         const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
         const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
@@ -405,6 +408,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
         }
         LaneBodies A = loadBodies(deltas, perUnit, bodyA, push, warmStart);
         LaneBodies B = loadBodies(deltas, perUnit, bodyB, push, warmStart);
+        LaneMask pushes{};
         if (pass == BTOCL_PASS_FRICTION) {
             for (int k = 0; k < s.frictionBlocks; ++k) {
                 const int block = s.frictionBlock + k;
@@ -423,6 +427,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
                     applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
                 } else if (push) {
                     active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
+                    pushes |= active;
                     pushChanged |= solveRows(row, pushApplied + size_t(block) * W, A, B, splat(0.0f),
                                              splat(BTOCL_FLT_MAX), 1, active);
                 } else {
@@ -433,10 +438,9 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
         }
         storeBodies(deltas, bodyA, push, A);
         storeBodies(deltas, bodyB, push, B);
+        if (push && iteration == 0) slotPushes[slot] = anyLane(pushes);
     }
-    for (int i = 0; i < W; ++i)
-        if (pushChanged[i]) return true;
-    return false;
+    return anyLane(pushChanged);
 }
 
 }  // namespace
@@ -475,6 +479,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     // one, and an iteration whose previous changed none passes (the notes are read once every
     // part of that iteration has run, so every thread passes alike). The same bits.
     m_pushChanged.assign(size_t(passes.pushIterations) * size_t(m_shares), 0);
+    m_slotPushes.resize(m_layout.slots.size());
     const auto pushChangedIn = [&](int iteration) {
         for (int share = 0; share < m_shares; ++share)
             if (m_pushChanged[size_t(iteration) * size_t(m_shares) + size_t(share)]) return true;
@@ -490,7 +495,8 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
         if (push && step.iteration > 0 && !pushChangedIn(step.iteration - 1)) return;
         bool changed = false;
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
-            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, b);
+            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, step.iteration,
+                                       m_slotPushes.data(), b);
         if (push && changed) m_pushChanged[size_t(step.iteration) * size_t(m_shares) + size_t(share)] = 1;
     });
     // Every row's impulse back in gather order, as the write-back reads them.

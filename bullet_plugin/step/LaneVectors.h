@@ -48,6 +48,8 @@ BTOCL_LANES_INLINE void store(Lanes v, float* p) { std::memcpy(p, &v, sizeof v);
 // OpenCL's select(a, b, m): b where m is set, else a.
 BTOCL_LANES_INLINE Lanes select(Lanes a, Lanes b, LaneMask m) { return m ? b : a; }
 BTOCL_LANES_INLINE Lanes splat(float x) { return Lanes{} + x; }
+// Whether any lane of m is set.
+BTOCL_LANES_INLINE bool anyLane(LaneMask m) { return !_mm256_testz_si256((__m256i)m, (__m256i)m); }
 // An 8x8 transpose: out[f] holds float f of every in[i] (lane i of in[f] is float f of out[i]).
 // Shuffles only, so every float keeps its bits; its own inverse.
 BTOCL_LANES_INLINE void transpose8(const Lanes* in, Lanes* out) {
