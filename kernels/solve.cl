@@ -332,7 +332,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
 // groups: `groups` are the bundles, setGroupStart the sets' bundles, numSlots every bundle's
 // slots. The warm start and every pass of a step that the lanes take (StepPolicy.cpp: contact
 // rows alone, in a fixed order). Of the solve buffers, rows, normalOfRow (a friction row's normal
-// is at its place / frictionPerPoint), constraints and batchEnd go unread.
+// is at its place / frictionPerPoint), constraints and batchEnd go unread. slotPushes: an int a
+// slot, written by the step's first push pass and read by the others (btoclSolveLaneSlot).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
     float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,
