@@ -353,6 +353,17 @@ enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_FIRST
 // record): a contact row has one of them, and the lanes stream one float less a row.
 #define BTOCL_LANE_ROW_FLOATS 19
 #define BTOCL_LANE_ROW_SHARED 15
+// A lanes pass's part in noting which slots hold a row with a push share (few do: deep points
+// alone), so that the push passes visit those alone (a slot without one changes nothing): the
+// warm start notes them where push iterations follow (it reads the line of a row's push share
+// anyway), else the first push pass does; the push passes after the noting skip the others.
+enum { BTOCL_PUSH_SLOTS_NONE, BTOCL_PUSH_SLOTS_NOTE, BTOCL_PUSH_SLOTS_SKIP };
+BTOCL_INLINE int btoclPushSlotsPart(btoclPassSchedule s, btoclPassStep p) {
+    if (s.pushIterations == 0) return BTOCL_PUSH_SLOTS_NONE;
+    if (p.pass == BTOCL_PASS_WARMSTART) return BTOCL_PUSH_SLOTS_NOTE;
+    if (p.pass != BTOCL_PASS_PUSH) return BTOCL_PUSH_SLOTS_NONE;
+    return p.iteration > 0 || s.warmStart ? BTOCL_PUSH_SLOTS_SKIP : BTOCL_PUSH_SLOTS_NOTE;
+}
 // Where float `field` (0 to 18, above) of wide row `index` lies.
 BTOCL_INLINE int btoclWideRowFloat(int index, int field, int lanes) {
     return (index / lanes) * (BTOCL_LANE_ROW_FLOATS * lanes) + field * lanes + index % lanes;

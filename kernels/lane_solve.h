@@ -18,7 +18,7 @@ typedef struct {
     __global const int* lanes;             // BTOCL_LANE_INTS * W ints a slot
     __global const float* bodyPerUnit;  // per body, BTOCL_BODY_PER_UNIT_FLOATS (set by the host)
     __global const float* rows;
-    __global int* slotPushes;  // per slot: a row with a push share, noted by the first push pass
+    __global int* slotPushes;  // per slot: a row with a push share (btoclPushSlotsPart)
     int frictionPerPoint;
 } btoclLaneBuffers;
 
@@ -170,13 +170,12 @@ BTOCL_SOLVE_INLINE void btoclWarmStartLaneRows(__global const float* row, __glob
 
 // One slot in one pass: its lanes' constraints as btoclSolveConstraint solves each in a pass that
 // pairs (btoclPassPairs), the warm start or a push pass: contact rows alone, in their order.
-// hasNext: the bundle has a slot after this one. Few rows have a push share (deep points alone):
-// the first push pass visits every slot and notes which have one, the later ones visit those
-// alone (a slot without one changes nothing).
+// hasNext: the bundle has a slot after this one. pushSlots: the pass's part in noting the slots
+// with a push share (btoclPushSlotsPart).
 BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const btoclLaneBuffers* lb, int slot, int pass,
-                                           int iteration, int hasNext) {
+                                           int pushSlots, int hasNext) {
     const int push = pass == BTOCL_PASS_PUSH;
-    if (push && iteration > 0 && !lb->slotPushes[slot]) return;
+    if (pushSlots == BTOCL_PUSH_SLOTS_SKIP && !lb->slotPushes[slot]) return;
     const btoclLaneSlot s = lb->slots[slot];
     __global const int* lanes = lb->lanes + slot * (BTOCL_LANE_INTS * BTOCL_LANES);
     const btoclLanesI bodyA = BTOCL_CAT(vload, BTOCL_LANES)(0, lanes + BTOCL_LANE_BODY_A * BTOCL_LANES);
@@ -220,6 +219,8 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
             btoclLanesI active = numPoints > k;
             if (pass == BTOCL_PASS_WARMSTART) {
                 btoclWarmStartLaneRows(row, b->applied + block * BTOCL_LANES, &A, &B, active);
+                if (pushSlots == BTOCL_PUSH_SLOTS_NOTE)
+                    pushes |= active & (btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) != 0.0f);
             } else if (push) {
                 active &= btoclLoadLanes(row + BTOCL_LANE_ROW_SHARED * BTOCL_LANES) != 0.0f;  // no push share: skipped
                 pushes |= active;
@@ -233,15 +234,15 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneSlot(const btoclSolveBuffers* b, const bto
     }
     btoclStoreLaneBodies(b, bodyA, push, &A);
     btoclStoreLaneBodies(b, bodyB, push, &B);
-    if (push && iteration == 0) lb->slotPushes[slot] = any(pushes);
+    if (pushSlots == BTOCL_PUSH_SLOTS_NOTE) lb->slotPushes[slot] = any(pushes);
 }
 
 // A bundle (a btoclGroup whose offset and count are its slots) in one pass, slot after slot.
 BTOCL_SOLVE_INLINE float btoclSolveLaneBundle(const btoclSolveBuffers* b, const btoclLaneBuffers* lb,
-                                              btoclGroup bundle, int pass, int iteration) {
+                                              btoclGroup bundle, int pass, int pushSlots) {
     const int end = bundle.offset + bundle.count;
     for (int slot = bundle.offset; slot < end; ++slot)
-        btoclSolveLaneSlot(b, lb, slot, pass, iteration, slot + 1 < end);
+        btoclSolveLaneSlot(b, lb, slot, pass, pushSlots, slot + 1 < end);
     return 0.0f;
 }
 

@@ -292,7 +292,7 @@ BTOCL_SOLVE_INLINE void claimedStep(const btoclSolveBuffers* bp, const btoclLane
                             const btoclGroup g = groups[group];
 #if defined(BTOCL_LANES) && BTOCL_LANES > 1
 #define BTOCL_SOLVE_CLAIMED(PASS)                                                                         \
-    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS, p.iteration)                                      \
+    (lanes > 1 ? btoclSolveLaneBundle(&b, lb, g, PASS, btoclPushSlotsPart(schedule, p))                  \
                : solveCellGroupOneLane(&b, g, batchEnd, PASS, flags, p.iteration, schedule.numIterations, \
                                        passSeed))
 #else
@@ -333,7 +333,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepClaimed(
 // slots. The warm start and every pass of a step that the lanes take (StepPolicy.cpp: contact
 // rows alone, in a fixed order). Of the solve buffers, rows, normalOfRow (a friction row's normal
 // is at its place / frictionPerPoint), constraints and batchEnd go unread. slotPushes: an int a
-// slot, written by the step's first push pass and read by the others (btoclSolveLaneSlot).
+// slot, written by the warm start or the first push pass, read by the push passes after it
+// (btoclPushSlotsPart).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void solveStepInLanes(
     BTOCL_SOLVE_KERNEL_BUFFERS, __global const int* setGroupStart, __global int* progress, int numSlots, int flags,
     float threshold, btoclPassSchedule schedule, __global const btoclLaneSlot* slots, __global const int* lanes,

@@ -381,10 +381,10 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, i
 namespace {
 
 // lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle. Returns whether a push pass
-// changed any push impulse. A push pass skips the slots with no push share (slotPushes, noted
-// by the first push iteration, which visits them all) as lane_solve.h does.
+// changed any push impulse. pushSlots: the pass's part in noting the slots with a push share in
+// slotPushes (btoclPushSlotsPart), as lane_solve.h's.
 BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
-                                        float* pushApplied, btoclBodyDelta* deltas, int pass, int iteration,
+                                        float* pushApplied, btoclBodyDelta* deltas, int pass, int pushSlots,
                                         unsigned char* slotPushes, int bundleIndex) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
     const int perPoint = layout.frictionPerPoint;
@@ -394,7 +394,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
     const btoclGroup& bundle = layout.bundles[size_t(bundleIndex)];
     LaneMask pushChanged{};
     for (int slot = bundle.offset; slot < bundle.offset + bundle.count; ++slot) {
-        if (push && iteration > 0 && !slotPushes[slot]) continue;
+        if (pushSlots == BTOCL_PUSH_SLOTS_SKIP && !slotPushes[slot]) continue;
         const btoclLaneSlot& s = layout.slots[size_t(slot)];
         const int* ints = layout.laneInts.data() + size_t(slot) * (BTOCL_LANE_INTS * W);
         const int* bodyA = ints + BTOCL_LANE_BODY_A * W;
@@ -425,6 +425,8 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
                 LaneMask active = numPoints > k;
                 if (warmStart) {
                     applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
+                    if (pushSlots == BTOCL_PUSH_SLOTS_NOTE)
+                        pushes |= active & (load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f);
                 } else if (push) {
                     active &= load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f;  // no push share: skipped
                     pushes |= active;
@@ -438,7 +440,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
         }
         storeBodies(deltas, bodyA, push, A);
         storeBodies(deltas, bodyB, push, B);
-        if (push && iteration == 0) slotPushes[slot] = anyLane(pushes);
+        if (pushSlots == BTOCL_PUSH_SLOTS_NOTE) slotPushes[slot] = anyLane(pushes);
     }
     return anyLane(pushChanged);
 }
@@ -459,12 +461,14 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
         const btoclPassStep step = btoclPassAt(passes, i);
         for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
             const int first = m_layout.setBundleStart[size_t(set)], end = m_layout.setBundleStart[size_t(set) + 1];
-            if (end > first) m_steps.push_back(SetStep{step.pass, first, end, set, step.iteration, false});
+            if (end > first)
+                m_steps.push_back(
+                    SetStep{step.pass, first, end, set, step.iteration, btoclPushSlotsPart(passes, step), false});
             // The set's joints after its contacts (a group's come after its contacts): in the
             // velocity passes alone, as the one-lane walk solves them.
             if (step.pass == BTOCL_PASS_NORMAL && m_hasJoints &&
                 m_setJointRunStart[size_t(set) + 1] > m_setJointRunStart[size_t(set)])
-                m_steps.push_back(SetStep{step.pass, 0, 0, set, step.iteration, true});
+                m_steps.push_back(SetStep{step.pass, 0, 0, set, step.iteration, BTOCL_PUSH_SLOTS_NONE, true});
         }
         if (step.endsIteration && step.pass != BTOCL_PASS_PUSH) ++iterations;
     }
@@ -495,7 +499,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
         if (push && step.iteration > 0 && !pushChangedIn(step.iteration - 1)) return;
         bool changed = false;
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
-            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, step.iteration,
+            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, step.pushSlots,
                                        m_slotPushes.data(), b);
         if (push && changed) m_pushChanged[size_t(step.iteration) * size_t(m_shares) + size_t(share)] = 1;
     });

@@ -76,6 +76,7 @@ private:
     struct SetStep {
         int pass, firstBundle, endBundle;
         int set, iteration;
+        int pushSlots;  // btoclPushSlotsPart
         bool joints;
     };
     // A group's joints: a run of the step's solve order, and the share that walks it.
