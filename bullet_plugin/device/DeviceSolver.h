@@ -95,7 +95,7 @@ private:
     DeviceBuffer<int> m_lanes;
     DeviceBuffer<float> m_bodyPerUnit;
     DeviceBuffer<float> m_wideRows;
-    DeviceBuffer<int> m_slotPushes;  // per slot: a row with a push share (written by the first push pass)
+    DeviceBuffer<int> m_slotPushes;  // per slot: a row with a push share (btoclPushSlotsPart)
     int m_numSlots = 0, m_frictionPerPoint = 1;
     std::array<int, BTOCL_CONTROL_SIZE> m_controlEnd{};  // the control block as read back
 };

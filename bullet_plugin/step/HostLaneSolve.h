@@ -90,7 +90,7 @@ private:
     LaneLayout m_layout;
     std::vector<SetStep> m_steps;
     std::vector<unsigned char> m_pushChanged;  // per push iteration and share: a push impulse changed
-    std::vector<unsigned char> m_slotPushes;   // per slot: a row with a push share (the first push pass's)
+    std::vector<unsigned char> m_slotPushes;   // per slot: a row with a push share (btoclPushSlotsPart)
     int m_shares = 1;
     LaneRows m_rows;
     // A step with joints: the split's contacts (m_contactSplit) go through the lanes as above;
