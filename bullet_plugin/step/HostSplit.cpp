@@ -110,24 +110,28 @@ BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std
     return layout;
 }
 
-std::vector<int> cellCuts(const BatchLayout& split, int parts) {
-    std::vector<std::pair<int, int>> cells;  // (cell, constraints) of every cell group
-    long long total = 0;
-    for (int g = 0; g < split.setGroupStart[BTOCL_OVERFLOW_SET]; ++g) {
-        const btoclGroup& group = split.groups[size_t(g)];
-        cells.emplace_back(group.cell, group.count);
-        total += group.count;
-    }
+std::vector<int> cutCells(std::vector<std::pair<int, long long>> cells, int parts) {
     std::sort(cells.begin(), cells.end());
+    long long total = 0;
+    for (const auto& cell : cells) total += cell.second;
     std::vector<int> cuts;
     long long before = 0;
     for (const auto& cell : cells) {
+        // The cell goes to the part its middle falls in.
+        const long long middle = 2 * before + cell.second;
+        while (int(cuts.size()) + 1 < parts && middle * parts >= 2 * total * (long long)(cuts.size() + 1))
+            cuts.push_back(cell.first);
         before += cell.second;
-        while (int(cuts.size()) + 1 < parts && before * parts >= total * (long long)(cuts.size() + 1))
-            cuts.push_back(cell.first + 1);
     }
     while (int(cuts.size()) + 1 < parts) cuts.push_back(std::numeric_limits<int>::max());
     return cuts;
+}
+
+std::vector<int> cellCuts(const BatchLayout& split, int parts) {
+    std::vector<std::pair<int, long long>> cells;  // (cell, constraints) of every cell group
+    for (int g = 0; g < split.setGroupStart[BTOCL_OVERFLOW_SET]; ++g)
+        cells.emplace_back(split.groups[size_t(g)].cell, split.groups[size_t(g)].count);
+    return cutCells(std::move(cells), parts);
 }
 
 int partOfCell(const std::vector<int>& cuts, int cell) {

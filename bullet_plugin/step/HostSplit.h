@@ -8,6 +8,7 @@
 #include "SplitPlan.h"
 #include "split_grid.h"
 
+#include <utility>
 #include <vector>
 
 namespace btocl {
@@ -30,12 +31,15 @@ void splitHostInto(const btoclConstraint* constraints, size_t n, const std::vect
 BatchLayout splitHost(const std::vector<btoclConstraint>& constraints, const std::vector<SplitBody>& bodies,
                       const SplitParams& params);
 
-// Where a split's cells are cut into `parts` runs of about as many constraints, by linear cell
-// index (rows of cells): part p of every set takes the cells in [cuts[p - 1], cuts[p]). Threads
-// that each take one part of every set then keep to one region of the scene, and a body, whose
-// constraints lie in neighbouring cells, mostly stays on one thread's core from set to set.
+// Where cells (cell, weight), in linear cell index order (rows of cells), are cut into `parts`
+// runs of about equal weight, each cell going to the part its middle falls in: part p takes the
+// cells in [cuts[p - 1], cuts[p]) (partOfCell). Threads that each take one part of every set then
+// keep to one region of the scene, and a body, whose constraints lie in neighbouring cells,
+// mostly stays on one thread's core from set to set.
+std::vector<int> cutCells(std::vector<std::pair<int, long long>> cells, int parts);
+// A split's cell groups of every set, each weighed by its constraints, cut so (cutCells).
 std::vector<int> cellCuts(const BatchLayout& split, int parts);
-// The part of `cell` (cellCuts).
+// The part of `cell` (cutCells).
 int partOfCell(const std::vector<int>& cuts, int cell);
 
 }  // namespace btocl

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
-#include <limits>
 #include <utility>
 
 namespace btocl {
@@ -207,37 +206,23 @@ std::pair<long long, long long> writeBundle(const BundlePlan& plan, const std::v
     return {usedLanes, usedRows};
 }
 
-// A set's groups (from firstGroup on) to the bundles of their cells' runs: the set's cells in row
-// order cut where the points before (a bundle's blocks) reach b/T of the set's, a cell going to
-// the part its middle falls in. Each bundle holds one region of the scene in every set, and a
-// body, whose constraints lie in neighbouring cells, mostly stays in one bundle's place from set
-// to set: on the host's threads (HostLaneSolve), each bundle place a thread's, in its core's cache
-// (docs/performance.md, "Lanes on the host's threads"). Cut in each set, by points, its bundles
-// end together: each set's last waits on the others (docs/performance.md, "Bundles cut by their
-// set's points").
+// A set's groups (from firstGroup on) to the bundles of their cells' runs: the set's cells cut by
+// their points (a bundle's blocks; cutCells). Each bundle holds one region of the scene in every
+// set, and a body, whose constraints lie in neighbouring cells, mostly stays in one bundle's place
+// from set to set: on the host's threads (HostLaneSolve), each bundle place a thread's, in its
+// core's cache (docs/performance.md, "Lanes on the host's threads"). Cut in each set, by points,
+// its bundles end together: each set's last waits on the others (docs/performance.md, "Bundles
+// cut by their set's points").
 void dealByPlace(const BatchLayout& split, int firstGroup, const std::vector<LaneRecord>& records, int parts,
                  std::vector<std::pair<int, long long>>& cells, std::vector<int>& bundleOf) {
     cells.clear();
-    long long total = 0;
     for (std::size_t k = 0; k < bundleOf.size(); ++k) {
         const btoclGroup& g = split.groups[std::size_t(firstGroup) + k];
         long long points = 0;
         for (int i = g.offset; i < g.offset + g.count; ++i) points += records[std::size_t(i)].points;
         cells.emplace_back(g.cell, points);
-        total += points;
     }
-    std::vector<std::pair<int, long long>> sorted(cells);
-    std::sort(sorted.begin(), sorted.end());
-    std::vector<int> cuts;
-    long long before = 0;
-    for (const auto& cell : sorted) {
-        // The cell goes to the part its middle falls in.
-        const long long middle = 2 * before + cell.second;
-        while (int(cuts.size()) + 1 < parts && middle * parts >= 2 * total * (long long)(cuts.size() + 1))
-            cuts.push_back(cell.first);
-        before += cell.second;
-    }
-    while (int(cuts.size()) + 1 < parts) cuts.push_back(std::numeric_limits<int>::max());
+    const std::vector<int> cuts = cutCells(cells, parts);
     for (std::size_t k = 0; k < bundleOf.size(); ++k) bundleOf[k] = partOfCell(cuts, cells[k].first);
 }
 
