@@ -380,6 +380,15 @@ void HostLaneSolve::setUp(StepProblem& p, const BatchLayout& split, int flags, i
 
 namespace {
 
+// The rows stream from memory, a block read once a pass: a block asks for the one
+// kRowsAhead blocks on, a line at a time, as lane_solve.h's BTOCL_PREFETCH_ROWS.
+constexpr int kRowsAhead = 12;
+BTOCL_LANES_INLINE void askForRowsAhead(const float* row) {
+    const int blockFloats = BTOCL_LANE_ROW_FLOATS * W;
+    const float* ahead = row + kRowsAhead * blockFloats;
+    for (int line = 0; line < blockFloats; line += 16) __builtin_prefetch(ahead + line);
+}
+
 // lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle. Returns whether a push pass
 // changed any push impulse. pushSlots: the pass's part in noting the slots with a push share in
 // slotPushes (btoclPushSlotsPart), as lane_solve.h's.
@@ -404,7 +413,11 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
         // comes from its core's cache, a wait the slot's solve hides.
         if (slot + 1 < bundle.offset + bundle.count) {
             const int* next = ints + BTOCL_LANE_INTS * W;  // its A bodies, then its B bodies
-            for (int i = 0; i < 2 * W; ++i) __builtin_prefetch(deltas + next[BTOCL_LANE_BODY_A * W + i]);
+            for (int i = 0; i < 2 * W; ++i) {
+                const int body = next[BTOCL_LANE_BODY_A * W + i];
+                __builtin_prefetch(deltas + body);
+                __builtin_prefetch(perUnit + size_t(body) * BTOCL_BODY_PER_UNIT_FLOATS);
+            }
         }
         LaneBodies A = loadBodies(deltas, perUnit, bodyA, push, warmStart);
         LaneBodies B = loadBodies(deltas, perUnit, bodyB, push, warmStart);
@@ -413,6 +426,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
             for (int k = 0; k < s.frictionBlocks; ++k) {
                 const int block = s.frictionBlock + k;
                 const float* row = rows + size_t(block) * blockFloats;
+                askForRowsAhead(row);
                 const Lanes total = load(applied + size_t(s.normalBlock + k / perPoint) * W);
                 const Lanes limit = load(row + BTOCL_LANE_ROW_SHARED * W) * total;
                 const LaneMask active = (numPoints * perPoint > k) & (total > 0.0f);
@@ -422,6 +436,7 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
             for (int k = 0; k < s.normalBlocks; ++k) {
                 const int block = s.normalBlock + k;
                 const float* row = rows + size_t(block) * blockFloats;
+                askForRowsAhead(row);
                 LaneMask active = numPoints > k;
                 if (warmStart) {
                     applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
