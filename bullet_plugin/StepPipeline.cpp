@@ -130,9 +130,13 @@ void StepPipeline::solveOnHost(StepProblem& p, const BulletStep& bullet, const S
     // on that core's thread. The same bits either way.
     // Both ways are timed only where split steps stay on the host (always, or as their own times
     // chose): a step the device's way is trying here takes the way preferred so far, shared out
-    // at first, so that the host is tried at its pace.
-    const bool timesShares = !step.timed() || m_splitTimes.prefersSecond();
-    const bool shared = lanes && (timesShares ? m_laneShareTimes.nextIsSecond() : m_laneShareTimes.prefersSecond());
+    // at first, so that the host is tried at its pace. A step past the host split's own bound
+    // (lanes split on the host at any size) is not tried on one thread: a dense block's step
+    // took twice as long there.
+    const bool oneThreadTried = p.constraints.size() <= m_plan.hostSplitMaxConstraints;
+    const bool timesShares = oneThreadTried && (!step.timed() || m_splitTimes.prefersSecond());
+    const bool shared = lanes && (!oneThreadTried || (timesShares ? m_laneShareTimes.nextIsSecond()
+                                                                   : m_laneShareTimes.prefersSecond()));
     const int shares =
         shared ? std::min(threadsForLoop(p.constraints.size(), kContactConstraintWeight), HostLaneSolve::kMaxShares) : 1;
     if (shares > 1) prewakeHostThreads(kHostWorkPrewake);  // the threads wait awake until the step ends

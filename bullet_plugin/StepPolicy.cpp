@@ -225,9 +225,8 @@ StepPlan planStep(const SolverPlan& solver, const StepProblem& p, const SolveSet
                                 ? StepPlan::claimedInLanes(passes, solver.simdLanes)
                                 : claimed;
     // The host walks the host's split alone (the device's, past hostSplitMaxConstraints, is
-    // another layout; the lanes' layout is the host's split's, at any size, but a step that large
-    // is not tried on one thread).
-    if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, claimed)) return device;
+    // another layout; the lanes' layout is the host's split's, at any size).
+    if (solver.splitStepsOnHost == SplitStepsOnHost::Never || !splitsOnHost(solver, p, device)) return device;
     if (solver.splitStepsOnHost == SplitStepsOnHost::Always) return StepPlan::onHostSplit(passes);
     if (!times) return device;
     return (times->nextIsSecond() ? StepPlan::onHostSplit(passes) : device).asTimed();

@@ -368,6 +368,29 @@ TEST_CASE("the host splits the serial path's mid-sized steps", "[solve][plan]") 
     CHECK((made.hostSplitMaxConstraints > 0) == (rt.isCpu() && !made.wide()));
 }
 
+// The lanes' layout is made from the host's split at any size, so a step in lanes may be solved
+// on the host past the bound of the host's split; a step of one lane a group past it is split on
+// the device, and stays there.
+TEST_CASE("a step in lanes may be solved on the host at any size", "[solve][plan]") {
+    StepProblem p;
+    const int points = 50000;
+    p.regions = btoclRowRegionsOf(points, points * p.frictionRowsPerPoint(), 0, 0);
+    p.constraints.resize(20000);
+    const SolveSettings settings;
+    SolverPlan solver = serialSplitting();
+    solver.hostSplitMaxConstraints = 1000;
+    solver.splitStepsOnHost = SplitStepsOnHost::Always;
+    solver.simdLanes = 8;
+    CHECK(planStep(solver, p, settings).mode() == StepMode::HostSplit);
+    solver.splitStepsOnHost = SplitStepsOnHost::Never;
+    CHECK(planStep(solver, p, settings).inLanes());
+    solver.splitStepsOnHost = SplitStepsOnHost::Always;
+    solver.simdLanes = 1;
+    CHECK(planStep(solver, p, settings).mode() == StepMode::Claimed);
+    p.constraints.resize(1000);
+    CHECK(planStep(solver, p, settings).mode() == StepMode::HostSplit);
+}
+
 // The host's arrangement of a split it made (HostArrange.h) is the device's (kernels/arrange.cl)
 // to the bit: constraints in solve order with their rows' first places, and each row's place.
 TEST_CASE("the host arranges constraints and rows as the device does", "[solve]") {

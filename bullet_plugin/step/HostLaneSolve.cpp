@@ -518,11 +518,12 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
                                        m_slotPushes.data(), b);
         if (push && changed) m_pushChanged[size_t(step.iteration) * size_t(m_shares) + size_t(share)] = 1;
     });
-    // Every row's impulse back in gather order, as the write-back reads them.
+    // Every row's impulse back in gather order, as the write-back reads them (a dense block has
+    // 600K rows).
     const std::vector<int>& rowMap = m_layout.rowMap;
     p.appliedImpulses.resize(rowMap.size());
     const size_t contactRows = m_hasJoints ? size_t(m_firstJointRow) : rowMap.size();
-    for (size_t r = 0; r < contactRows; ++r) p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])];
+    parallelFor(contactRows, [&](size_t r) { p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])]; });
     for (size_t r = contactRows; r < rowMap.size(); ++r)
         p.appliedImpulses[r] = m_jointApplied[size_t(m_jointRowMap[r - contactRows])];
     return iterations;
