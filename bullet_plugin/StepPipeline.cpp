@@ -204,10 +204,11 @@ void StepPipeline::solveOnDevice(StepProblem& p, const StepPlan& step, const Sol
             return solveSplit(p, oneLane, settings, s, true, msHostSplit, 0);
         }
         const auto t0 = std::chrono::steady_clock::now();
+        LaneLayout& laneLayout = m_hostLanes.sharedLayout();
         layOutLanes(m_hostSplit, p.constraints.data(), p.regions, step.simdLanes(), p.frictionRowsPerPoint(),
-                    int(m_runtime.computeUnits()), m_laneLayout);
+                    int(m_runtime.computeUnits()), laneLayout);
         const double msLayout = msSince(t0);
-        if (!m_plan.lanesWhereTheyFill || m_laneLayout.rowFill() >= kMinLaneRowFill)
+        if (!m_plan.lanesWhereTheyFill || laneLayout.rowFill() >= kMinLaneRowFill)
             return solveInLanes(p, step, settings, s, msHostSplit, msLayout);
         m_stepsWithoutLanes = kStepsWithoutLanes;
         return solveSplit(p, oneLane, settings, s, true, msHostSplit, msLayout);
@@ -265,20 +266,22 @@ void StepPipeline::iterateAndDownload(StepProblem& p, const StepPlan& step, cons
 // up in the layout's blocks, the passes in one launch.
 void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const SolveSettings& settings,
                                 btOpenCLSolverStats& s, double msHostSplit, double msLayout) {
+    const LaneLayout& laneLayout = m_hostLanes.sharedLayout();
+    LaneRows& laneRows = m_hostLanes.sharedRows();
     if (m_config.validate) {
         std::string failure = validateBatchLayout(m_hostSplit, p.constraints);
-        if (failure.empty()) failure = validateLaneLayout(m_laneLayout, m_hostSplit, p.constraints);
+        if (failure.empty()) failure = validateLaneLayout(laneLayout, m_hostSplit, p.constraints);
         noteInvariants(s, failure);
     }
     // On a CPU device in the host's memory, eight lanes' rows are set up by the host's vector
     // code on both cores, in place (the setup kernel runs a slot a work-item, scalar).
-    const bool rowsOnHost = hostSetsUpLaneRows(m_laneLayout.lanes, m_runtime);
+    const bool rowsOnHost = hostSetsUpLaneRows(laneLayout.lanes, m_runtime);
     const auto t1 = std::chrono::steady_clock::now();
-    if (rowsOnHost) setUpLaneRows(p, m_laneLayout, m_laneRows);
-    setUpBodyPerUnit(p, settings.flags, m_laneRows.perUnit);
+    if (rowsOnHost) setUpLaneRows(p, laneLayout, laneRows);
+    setUpBodyPerUnit(p, settings.flags, laneRows.perUnit);
     const double msRowsOnHost = msSince(t1);
     m_runtime.beginPhase(DevicePhase::Setup);
-    m_solve.arrangeInLanes(p, m_laneLayout, m_laneRows.perUnit, rowsOnHost ? &m_laneRows : nullptr);
+    m_solve.arrangeInLanes(p, laneLayout, laneRows.perUnit, rowsOnHost ? &laneRows : nullptr);
     iterateAndDownload(p, step, DeviceLayoutView{}, settings, s);
     s.msSplit += msHostSplit;
     s.msSetup += msLayout + msRowsOnHost;
@@ -287,9 +290,9 @@ void StepPipeline::solveInLanes(StepProblem& p, const StepPlan& step, const Solv
     s.numOverflowConstraints = m_hostSplit.numOverflowConstraints;
     s.numBatchesMax = s.numGroups > 0 ? 1 : 0;
     s.numBatchesMean = s.numBatchesMax;
-    s.simdLanes = m_laneLayout.lanes;
-    s.laneFill = m_laneLayout.laneFill();
-    s.laneRowFill = m_laneLayout.rowFill();
+    s.simdLanes = laneLayout.lanes;
+    s.laneFill = laneLayout.laneFill();
+    s.laneRowFill = laneLayout.rowFill();
 }
 
 // What the device did: its phases' times (profiling events), the layout's counts, the step's.

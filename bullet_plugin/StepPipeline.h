@@ -86,10 +86,8 @@ private:
     DeviceLayout m_layout;
     BatchLayout m_hostSplit;  // the split made on the host (splitsOnHost), read by the queue
     HostArrangement m_hostArrangement;  // and its arrangement, likewise
-    LaneLayout m_laneLayout;            // or its lane layout, likewise
-    LaneRows m_laneRows;                // and that layout's rows, where the host sets them up
     HostSolve m_hostSolve;
-    HostLaneSolve m_hostLanes;
+    HostLaneSolve m_hostLanes;  // its lane layout and rows are a device step's in lanes too
     SplitStepTimes m_splitTimes;  // where split steps ran faster of late (SplitStepsOnHost::Timed)
     StepWayTimes m_laneShareTimes{true};  // whether host steps in lanes ran faster of late shared out
     int m_stepsWithoutLanes = 0;  // steps left to solve one lane a group after a layout filled too little

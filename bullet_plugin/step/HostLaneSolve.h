@@ -61,6 +61,10 @@ public:
     const LaneLayout& layout() const { return m_layout; }
     // What setUp wrote (the tests hold it to lane_setup.h's one-lane setup).
     const LaneRows& rows() const { return m_rows; }
+    // The same arrays, for a device step in lanes to lay out and set up in (StepPipeline): either
+    // way, a step finds them sized and touched by the steps before, and they are held once.
+    LaneLayout& sharedLayout() { return m_layout; }
+    LaneRows& sharedRows() { return m_rows; }
     // The slots whose rows setUp wrote eight points at a time (the others one lane at a time).
     size_t slotsInVectors() const;
 
