@@ -338,6 +338,53 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
     if (o.ownCfm) CHECK(oneLane > 0);
 }
 
+TEST_CASE("the host's lanes give the same bits with AVX-512's registers as with AVX2's", "[lanes][host]") {
+    // The solve's AVX-512VL build (lanesUseWideRegisters) runs the AVX2 build's operations with
+    // twice the registers: every body and impulse must be the AVX2 build's to the bit.
+    using namespace btocl;
+    if (!HostLaneSolve::available() || !lanesUseWideRegisters()) {
+        WARN("no AVX-512VL on this CPU: the lanes' solve has its AVX2 build alone");
+        return;
+    }
+    World w(SolverKind::Reference);
+    groundAndTumblingPile(w, 343);
+    int compared = 0;
+    for (int s = 0; s < 60; ++s) {
+        w.step();
+        if (s < 40 || s % 10 != 9) continue;  // once the pile has landed
+        btContactSolverInfo info = w.stepInfo();
+        info.m_splitImpulse = 1;
+        const StepProblem gathered = test::gatherProblem(w, info, RowSetup::Device);
+        REQUIRE(gathered.constraints.size() > 150);
+        BatchLayout split;
+        splitHostInto(gathered.constraints.data(), gathered.constraints.size(), gathered.splitBodies, SplitParams{},
+                      true, split);
+        const SolveSettings settings = solveSettingsOf(info, false);
+        auto solve = [&](bool wideRegisters) {
+            lanesUseWideRegisters() = wideRegisters;
+            StepProblem p = gathered;
+            HostLaneSolve lanes;
+            lanes.setUp(p, split, settings.flags, 2);
+            lanes.solve(p, passScheduleOf(settings, p), false);
+            lanesUseWideRegisters() = true;
+            return std::make_pair(std::vector<btoclBodyDelta>(p.deltas.begin(), p.deltas.end()),
+                                  std::vector<float>(p.appliedImpulses.begin(), p.appliedImpulses.end()));
+        };
+        const auto avx2 = solve(false), wide = solve(true);
+        INFO("step " << s);
+        REQUIRE(avx2.first.size() == wide.first.size());
+        REQUIRE(avx2.second.size() == wide.second.size());
+        CHECK(std::memcmp(avx2.first.data(), wide.first.data(), avx2.first.size() * sizeof(btoclBodyDelta)) == 0);
+        CHECK(std::memcmp(avx2.second.data(), wide.second.data(), avx2.second.size() * sizeof(float)) == 0);
+        // The solve moved the bodies: equal deltas of an idle solve would prove nothing.
+        bool moved = false;
+        for (const btoclBodyDelta& d : avx2.first) moved = moved || toVector3(d.deltaLinearVelocity).length2() > 0;
+        CHECK(moved);
+        ++compared;
+    }
+    CHECK(compared == 2);
+}
+
 TEST_CASE("the host's lanes on the host's threads give one thread's bits, however the shares fall", "[lanes][host]") {
     // HostLaneSolve lays each set out in a bundle a thread (by place) and runs a share of every
     // set on each thread; a share its thread has not taken is run by another. A set's bundles
@@ -466,3 +513,4 @@ TEST_CASE("a lane count other than 1, 4, 8 or 16 is refused with a clear error",
     ScopedEnv env("BT_OPENCL_SIMD_LANES", "wide");
     CHECK_THROWS_AS(btOpenCLConstraintSolver(), btOpenCLSolverError);
 }
+

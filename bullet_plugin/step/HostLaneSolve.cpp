@@ -391,8 +391,8 @@ BTOCL_LANES_INLINE void askForRowsAhead(const float* row) {
 
 // lane_solve.h's btoclSolveLaneSlot, for every slot of one bundle. Returns whether a push pass
 // changed any push impulse. pushSlots: the pass's part in noting the slots with a push share in
-// slotPushes (btoclPushSlotsPart), as lane_solve.h's.
-BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
+// slotPushes (btoclPushSlotsPart), as lane_solve.h's. Inlined into a build for each target below.
+BTOCL_LANES_INLINE bool solveLaneBundle(const LaneLayout& layout, const LaneRows& lanes, float* applied,
                                         float* pushApplied, btoclBodyDelta* deltas, int pass, int pushSlots,
                                         unsigned char* slotPushes, int bundleIndex) {
     const int push = pass == BTOCL_PASS_PUSH, warmStart = pass == BTOCL_PASS_WARMSTART;
@@ -460,6 +460,19 @@ BTOCL_LANES_TARGET bool solveLaneBundle(const LaneLayout& layout, const LaneRows
     return anyLane(pushChanged);
 }
 
+// The same operations either way, so the same bits (tests/test_lanes.cpp).
+BTOCL_LANES_TARGET bool solveLaneBundleAvx2(const LaneLayout& layout, const LaneRows& lanes, float* applied,
+                                            float* pushApplied, btoclBodyDelta* deltas, int pass, int pushSlots,
+                                            unsigned char* slotPushes, int bundleIndex) {
+    return solveLaneBundle(layout, lanes, applied, pushApplied, deltas, pass, pushSlots, slotPushes, bundleIndex);
+}
+BTOCL_LANES_WIDE_REGISTERS_TARGET bool solveLaneBundleWideRegisters(const LaneLayout& layout, const LaneRows& lanes,
+                                                                    float* applied, float* pushApplied,
+                                                                    btoclBodyDelta* deltas, int pass, int pushSlots,
+                                                                    unsigned char* slotPushes, int bundleIndex) {
+    return solveLaneBundle(layout, lanes, applied, pushApplied, deltas, pass, pushSlots, slotPushes, bundleIndex);
+}
+
 }  // namespace
 
 size_t HostLaneSolve::slotsInVectors() const {
@@ -504,6 +517,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
             if (m_pushChanged[size_t(iteration) * size_t(m_shares) + size_t(share)]) return true;
         return false;
     };
+    const auto solveBundle = lanesUseWideRegisters() ? solveLaneBundleWideRegisters : solveLaneBundleAvx2;
     shareSteps(int(m_steps.size()), m_shares, onPool, [&](int k, int share) {
         const SetStep& step = m_steps[size_t(k)];
         if (step.joints) {
@@ -514,8 +528,8 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
         if (push && step.iteration > 0 && !pushChangedIn(step.iteration - 1)) return;
         bool changed = false;
         for (int b = step.firstBundle + share; b < step.endBundle; b += m_shares)
-            changed |= solveLaneBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, step.pushSlots,
-                                       m_slotPushes.data(), b);
+            changed |= solveBundle(m_layout, m_rows, applied, pushApplied, deltas, step.pass, step.pushSlots,
+                                   m_slotPushes.data(), b);
         if (push && changed) m_pushChanged[size_t(step.iteration) * size_t(m_shares) + size_t(share)] = 1;
     });
     // Every row's impulse back in gather order, as the write-back reads them (a dense block has

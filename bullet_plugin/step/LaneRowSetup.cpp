@@ -244,7 +244,7 @@ BTOCL_LANES_INLINE void storeRecords(const RowLanes& r, btoclSolveRow* const* to
     }
 }
 
-BTOCL_LANES_TARGET bool slotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
+BTOCL_LANES_INLINE bool slotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                                         const int* ints, float* wide, float* applied, float* pushApplied,
                                         btoclFloat4* lateralDirs, const btoclSetupParams& prm, bool stream) {
     const int* numPoints = ints + BTOCL_LANE_POINTS * W;
@@ -282,6 +282,22 @@ BTOCL_LANES_TARGET bool slotRowsInLanes(const btoclContactPoint* points, const b
         }
     }
     return true;
+}
+
+// slotRowsInLanes built for AVX2 and for AVX-512VL's registers (lanesUseWideRegisters): the
+// same operations, so the same bits.
+BTOCL_LANES_TARGET bool slotRowsInLanesAvx2(const btoclContactPoint* points, const btoclBody* bodies,
+                                            const btoclLaneSlot& s, const int* ints, float* wide, float* applied,
+                                            float* pushApplied, btoclFloat4* lateralDirs, const btoclSetupParams& prm,
+                                            bool stream) {
+    return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
+}
+BTOCL_LANES_WIDE_REGISTERS_TARGET bool slotRowsInLanesWideRegisters(const btoclContactPoint* points,
+                                                                    const btoclBody* bodies, const btoclLaneSlot& s,
+                                                                    const int* ints, float* wide, float* applied,
+                                                                    float* pushApplied, btoclFloat4* lateralDirs,
+                                                                    const btoclSetupParams& prm, bool stream) {
+    return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
 }
 
 BTOCL_LANES_TARGET bool pointRowsInLanes(StepProblem& p, size_t first, size_t count, HostSolve::RowRecords to) {
@@ -330,7 +346,8 @@ BTOCL_LANES_TARGET bool pointRowsInLanes(StepProblem& p, size_t first, size_t co
 bool setUpSlotRowsInLanes(const btoclContactPoint* points, const btoclBody* bodies, const btoclLaneSlot& s,
                           const int* ints, float* wide, float* applied, float* pushApplied, btoclFloat4* lateralDirs,
                           const btoclSetupParams& prm, bool stream) {
-    return slotRowsInLanes(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
+    const auto setUp = lanesUseWideRegisters() ? slotRowsInLanesWideRegisters : slotRowsInLanesAvx2;
+    return setUp(points, bodies, s, ints, wide, applied, pushApplied, lateralDirs, prm, stream);
 }
 
 bool setUpPointRowsInLanes(StepProblem& p, size_t first, size_t count, HostSolve& into) {

@@ -1,17 +1,23 @@
 // Eight float lanes (AVX2) as GCC's vector types, for the host's lanes (HostLaneSolve.cpp,
 // LaneRowSetup.cpp). Every function here and in its users is built for AVX2 whatever the build's
 // target, and called only where the CPU has it (lanesAvailable): each has the target attribute
-// and internal linkage, so no other code is built for AVX2.
+// and internal linkage, so no other code is built for AVX2. The solve's and the setup's loops are
+// built a second time for AVX-512VL, inlining the same functions, and run where the CPU has it.
 #pragma once
 
+#include <atomic>
 #include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define BTOCL_LANES_TARGET __attribute__((target("avx2")))
+// The same eight lanes with AVX-512VL's 32 vector registers (AVX2 has 16): the solve's two sides
+// of a slot, about 30 vectors, stay in registers (lanesHaveWideRegisters).
+#define BTOCL_LANES_WIDE_REGISTERS_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
 #define BTOCL_HAS_HOST_LANES 1
 #else
 #define BTOCL_LANES_TARGET
+#define BTOCL_LANES_WIDE_REGISTERS_TARGET
 #define BTOCL_HAS_HOST_LANES 0
 #endif
 // Inlined into their callers, where the lanes stay in registers.
@@ -26,6 +32,18 @@ inline bool lanesAvailable() {
 #else
     return false;
 #endif
+}
+
+// Whether the lanes' solve runs its AVX-512VL build (BTOCL_LANES_WIDE_REGISTERS_TARGET): where
+// the CPU has it, unless switched off (the tests compare the two builds' bits). Atomic: solvers
+// in other threads read it.
+inline std::atomic<bool>& lanesUseWideRegisters() {
+#if BTOCL_HAS_HOST_LANES
+    static std::atomic<bool> use{__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")};
+#else
+    static std::atomic<bool> use{false};
+#endif
+    return use;
 }
 
 namespace {
