@@ -338,6 +338,35 @@ TEST_CASE("the host's lanes set rows up eight points at a time to the one-lane s
     if (o.ownCfm) CHECK(oneLane > 0);
 }
 
+namespace {
+
+// A split step of a landed pile of 343 tumbling boxes, every tenth step from step 49 to `lastStep`
+// (split impulse on; two friction directions where asked): f(gathered, split, settings, step).
+template <class F>
+int forLandedPileSteps(int lastStep, bool twoFriction, F&& f) {
+    using namespace btocl;
+    World w(SolverKind::Reference);
+    groundAndTumblingPile(w, 343);
+    int steps = 0;
+    for (int s = 0; s < lastStep; ++s) {
+        w.step();
+        if (s < 40 || s % 10 != 9) continue;  // once the pile has landed
+        btContactSolverInfo info = w.stepInfo();
+        if (twoFriction) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+        info.m_splitImpulse = 1;
+        const StepProblem gathered = test::gatherProblem(w, info, RowSetup::Device);
+        REQUIRE(gathered.constraints.size() > 150);
+        BatchLayout split;
+        splitHostInto(gathered.constraints.data(), gathered.constraints.size(), gathered.splitBodies, SplitParams{},
+                      true, split);
+        f(gathered, split, solveSettingsOf(info, false), s);
+        ++steps;
+    }
+    return steps;
+}
+
+}  // namespace
+
 TEST_CASE("the host's lanes give the same bits with AVX-512's registers as with AVX2's", "[lanes][host]") {
     // The solve's AVX-512VL build (lanesUseWideRegisters) runs the AVX2 build's operations with
     // twice the registers: every body and impulse must be the AVX2 build's to the bit.
@@ -346,20 +375,8 @@ TEST_CASE("the host's lanes give the same bits with AVX-512's registers as with 
         WARN("no AVX-512VL on this CPU: the lanes' solve has its AVX2 build alone");
         return;
     }
-    World w(SolverKind::Reference);
-    groundAndTumblingPile(w, 343);
-    int compared = 0;
-    for (int s = 0; s < 60; ++s) {
-        w.step();
-        if (s < 40 || s % 10 != 9) continue;  // once the pile has landed
-        btContactSolverInfo info = w.stepInfo();
-        info.m_splitImpulse = 1;
-        const StepProblem gathered = test::gatherProblem(w, info, RowSetup::Device);
-        REQUIRE(gathered.constraints.size() > 150);
-        BatchLayout split;
-        splitHostInto(gathered.constraints.data(), gathered.constraints.size(), gathered.splitBodies, SplitParams{},
-                      true, split);
-        const SolveSettings settings = solveSettingsOf(info, false);
+    const int compared = forLandedPileSteps(60, false, [](const StepProblem& gathered, const BatchLayout& split,
+                                                           const SolveSettings& settings, int s) {
         auto solve = [&](bool wideRegisters) {
             lanesUseWideRegisters() = wideRegisters;
             StepProblem p = gathered;
@@ -380,8 +397,7 @@ TEST_CASE("the host's lanes give the same bits with AVX-512's registers as with 
         bool moved = false;
         for (const btoclBodyDelta& d : avx2.first) moved = moved || toVector3(d.deltaLinearVelocity).length2() > 0;
         CHECK(moved);
-        ++compared;
-    }
+    });
     CHECK(compared == 2);
 }
 
@@ -398,21 +414,8 @@ TEST_CASE("the host's lanes on the host's threads give one thread's bits, howeve
     const bool twoFriction = GENERATE(false, true);
     CAPTURE(twoFriction);
     test::ParallelFrom everyLoop(1);  // the pool takes the scene's loops, and the lanes' shares
-    World w(SolverKind::Reference);
-    groundAndTumblingPile(w, 343);
-    int compared = 0;
-    for (int s = 0; s < 80; ++s) {
-        w.step();
-        if (s < 40 || s % 10 != 9) continue;  // once the pile has landed
-        btContactSolverInfo info = w.stepInfo();
-        if (twoFriction) info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
-        info.m_splitImpulse = 1;
-        const StepProblem gathered = test::gatherProblem(w, info, RowSetup::Device);
-        REQUIRE(gathered.constraints.size() > 150);
-        BatchLayout split;
-        splitHostInto(gathered.constraints.data(), gathered.constraints.size(), gathered.splitBodies, SplitParams{},
-                      true, split);
-        const SolveSettings settings = solveSettingsOf(info, false);
+    const int compared = forLandedPileSteps(80, twoFriction, [](const StepProblem& gathered, const BatchLayout& split,
+                                                                 const SolveSettings& settings, int s) {
         auto solve = [&](int shares, bool onPool, HostLaneSolve& lanes) {
             StepProblem p = gathered;
             lanes.setUp(p, split, settings.flags, shares);
@@ -441,8 +444,7 @@ TEST_CASE("the host's lanes on the host's threads give one thread's bits, howeve
         // More than one bundle a set, where there are threads for them.
         if (hostThreads() > 1)
             CHECK(pool.layout().bundles.size() > one.layout().bundles.size());
-        ++compared;
-    }
+    });
     CHECK(compared == 4);
 }
 
