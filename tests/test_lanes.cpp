@@ -515,4 +515,3 @@ TEST_CASE("a lane count other than 1, 4, 8 or 16 is refused with a clear error",
     ScopedEnv env("BT_OPENCL_SIMD_LANES", "wide");
     CHECK_THROWS_AS(btOpenCLConstraintSolver(), btOpenCLSolverError);
 }
-

@@ -40,7 +40,8 @@ struct JointLaneSlot {
 
 class HostLaneSolve {
 public:
-    // AVX2's width: the solve's functions are built for AVX2 alone and run where the CPU has it.
+    // AVX2's width: the solve's functions are built for AVX2 (and again for AVX-512VL's registers,
+    // lanesUseWideRegisters) and run where the CPU has it.
     static constexpr int kLanes = 8;
     // The most threads a solve runs on (a share each).
     static constexpr int kMaxShares = 8;

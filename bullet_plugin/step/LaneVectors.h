@@ -12,7 +12,7 @@
 #include <immintrin.h>
 #define BTOCL_LANES_TARGET __attribute__((target("avx2")))
 // The same eight lanes with AVX-512VL's 32 vector registers (AVX2 has 16): the solve's two sides
-// of a slot, about 30 vectors, stay in registers (lanesHaveWideRegisters).
+// of a slot, about 30 vectors, stay in registers (lanesUseWideRegisters).
 #define BTOCL_LANES_WIDE_REGISTERS_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
 #define BTOCL_HAS_HOST_LANES 1
 #else
@@ -34,8 +34,8 @@ inline bool lanesAvailable() {
 #endif
 }
 
-// Whether the lanes' solve runs its AVX-512VL build (BTOCL_LANES_WIDE_REGISTERS_TARGET): where
-// the CPU has it, unless switched off (the tests compare the two builds' bits). Atomic: solvers
+// Whether the lanes' solve and setup run their AVX-512VL builds (BTOCL_LANES_WIDE_REGISTERS_TARGET):
+// where the CPU has it, unless switched off (the tests compare the two builds' bits). Atomic: solvers
 // in other threads read it.
 inline std::atomic<bool>& lanesUseWideRegisters() {
 #if BTOCL_HAS_HOST_LANES
