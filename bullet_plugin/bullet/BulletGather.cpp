@@ -60,6 +60,22 @@ void prefetchPointsForCount(const btPersistentManifold* m) {
         __builtin_prefetch(first + size_t(j) * sizeof(btManifoldPoint) + offsetof(btManifoldPoint, m_distance1));
 }
 
+// The members of a collision object that the count reads: pointers to them, for asking for their
+// lines ahead (they are protected; a class of its own names them).
+struct ObjectMembersReadByCount : btCollisionObject {
+    static constexpr int btCollisionObject::*companionId = &ObjectMembersReadByCount::m_companionId;
+    static constexpr int btCollisionObject::*anisotropy = &ObjectMembersReadByCount::m_hasAnisotropicFriction;
+};
+
+// The lines of a manifold's two objects that the count reads: its tail, asked for before, holds
+// their addresses by now.
+void prefetchObjectsForCount(const btPersistentManifold* m) {
+    for (const btCollisionObject* o : {m->getBody0(), m->getBody1()}) {
+        __builtin_prefetch(&(o->*ObjectMembersReadByCount::companionId));
+        __builtin_prefetch(&(o->*ObjectMembersReadByCount::anisotropy));
+    }
+}
+
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
 // contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
 template <class T, class Allocator>
@@ -326,7 +342,10 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(m_slots, numManifolds);
     parallelFor(numManifolds, [&](size_t m) {
         if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
-        if (m + kPrefetchAhead < numManifolds) prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
+        if (m + kPrefetchAhead < numManifolds) {
+            prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
+            prefetchObjectsForCount(m_manifolds[m + kPrefetchAhead]);
+        }
         countPoints(m);
     }, kManifoldWeight);
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
