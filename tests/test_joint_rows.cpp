@@ -44,6 +44,7 @@ struct GatheredJoints {
     StepProblem problem;
     std::vector<btRigidBody*> original;     // per solver body (BulletStep::original)
     std::vector<btTransform> worldTransforms;  // per solver body (BulletStep::worldTransforms)
+    std::vector<btVector3> boxLo, boxHi;       // per solver body (BulletStep::boxLo, boxHi)
     JointRowSet joints;
 };
 
@@ -61,6 +62,8 @@ GatheredJoints gatherJoints(btCollisionObject** objects, int numObjects, btPersi
     out.problem = g.finish();
     out.original = g.bullet().original;
     out.worldTransforms = g.bullet().worldTransforms;
+    out.boxLo = g.bullet().boxLo;
+    out.boxHi = g.bullet().boxHi;
     out.joints = setUpJointRows(joints, numJoints, bodies.data(), out.problem.bodies, info);
     g.releaseBodies();
     return out;
@@ -190,6 +193,8 @@ TEST_CASE("a joint's split point lies where both bodies reach", "[joints][split]
     BulletStep bullet;
     bullet.original = g.original;
     bullet.worldTransforms = g.worldTransforms;
+    bullet.boxLo = g.boxLo;
+    bullet.boxHi = g.boxHi;
     bullet.joints = set;
     addSplitGeometry(p, bullet);
     const btoclConstraint* placed = &p.constraints[p.constraints.size() - set.constraints.size()];

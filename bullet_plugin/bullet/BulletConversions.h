@@ -66,8 +66,8 @@ inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotat
 // The implicit gyroscopic impulse in the body's frame (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY):
 // one Newton step of I w' + dt w' x I w' = I w from w, the change of world angular velocity.
 // Bullet's computeGyroscopicImpulseImplicit_Body turns the basis into a quaternion and rotates by
-// it twice; here the basis rotates, the same rotation to float rounding, in a fifth of its time
-// (docs/performance.md, "The gyroscopic term from the basis"). A zero inverse inertia is a zero
+// it twice; here the basis rotates, the same rotation to float rounding, and the record of a body
+// takes less time (docs/performance.md, "The gather's bodies"). A zero inverse inertia is a zero
 // inertia, as Bullet's getLocalInertia; a near-singular Jacobian is not inverted, as its solve33.
 inline btVector3 gyroscopicImpulseInBodyFrame(const btMatrix3x3& basis, const btVector3& invInertiaLocal,
                                               const btVector3& angularVelocity, btScalar dt) {

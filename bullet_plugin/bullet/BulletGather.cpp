@@ -96,6 +96,8 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.bodies.assign(1, btoclBody{});
     p.deltas.assign(1, btoclBodyDelta{});
     m_bullet.worldTransforms.assign(1, btTransform::getIdentity());
+    m_bullet.boxLo.assign(1, btVector3(0, 0, 0));
+    m_bullet.boxHi.assign(1, btVector3(0, 0, 0));
     p.splitBodies.assign(1, SplitBody{});
     // constraints, manifoldOfConstraint, points and manifoldPoints are sized and overwritten by
     // packManifolds: kept here, they are neither zeroed nor fresh memory every step.
@@ -138,9 +140,15 @@ void StepGatherer::fillSolverBody(int index) {
 
     SplitBody split;  // its extent waits for a step that is split (addSplitGeometry)
     split.dynamic = invMass != 0;
+    // Its box here, where its lines have come, rather than in a pass of its own over bodies
+    // scattered in memory: a split step's reach reads it (addSplitGeometry).
+    btVector3 lo = xf.getOrigin(), hi = lo;
+    if (const btCollisionShape* shape = rb->getCollisionShape(); shape && split.dynamic) shape->getAabb(xf, lo, hi);
     p.bodies[size_t(index)] = b;
     p.deltas[size_t(index)] = btoclBodyDelta{};
     m_bullet.worldTransforms[size_t(index)] = xf;
+    m_bullet.boxLo[size_t(index)] = lo;
+    m_bullet.boxHi[size_t(index)] = hi;
     p.splitBodies[size_t(index)] = split;
 }
 
@@ -151,6 +159,8 @@ void StepGatherer::fillNewBodies() {
     p.bodies.resize(end);
     p.deltas.resize(end);
     m_bullet.worldTransforms.resize(end);
+    m_bullet.boxLo.resize(end);
+    m_bullet.boxHi.resize(end);
     p.splitBodies.resize(end);
     parallelFor(end - first, [&](size_t i) {
         // A rigid body's record lies in a few cache lines of its own: asked for a few bodies ahead.
@@ -402,25 +412,27 @@ StepProblem& StepGatherer::finish() {
     return p;
 }
 
+namespace {
+
+// Each dynamic body's extent: its reach's longest side.
+void setSplitExtents(StepProblem& p, const std::vector<btVector3>& lo, const std::vector<btVector3>& hi) {
+    parallelFor(p.splitBodies.size() - 1, [&](size_t i) {
+        SplitBody& body = p.splitBodies[i + 1];
+        if (!body.dynamic) return;
+        const btVector3 size = hi[i + 1] - lo[i + 1];
+        body.extent = float(size[size.maxAxis()]);
+    });
+}
+
+}  // namespace
+
 void addSplitGeometry(StepProblem& p, const BulletStep& bullet) {
-    const size_t n = p.splitBodies.size();
-    SplitReach reach{std::vector<btVector3>(n), std::vector<btVector3>(n)};
-    parallelFor(n - 1, [&](size_t i) {
-        const size_t b = i + 1;
-        if (!p.splitBodies[b].dynamic) return;
-        if (const btCollisionShape* shape = bullet.original[b]->getCollisionShape())
-            shape->getAabb(bullet.worldTransforms[b], reach.lo[b], reach.hi[b]);
-        else
-            reach.lo[b] = reach.hi[b] = bullet.worldTransforms[b].getOrigin();
-    }, kRigidBodyWeight);
     const JointRowSet& joints = bullet.joints;
-    if (!joints.constraints.empty())  // the joints' constraints come last (StepGatherer::addJointRows)
-        placeJointSplitPoints(joints, &p.constraints[p.constraints.size() - joints.constraints.size()], reach);
-    for (size_t b = 1; b < n; ++b) {
-        if (!p.splitBodies[b].dynamic) continue;
-        const btVector3 size = reach.hi[b] - reach.lo[b];
-        p.splitBodies[b].extent = float(size[size.maxAxis()]);
-    }
+    if (joints.constraints.empty()) return setSplitExtents(p, bullet.boxLo, bullet.boxHi);
+    // The joints' constraints come last (StepGatherer::addJointRows); their points widen the reach.
+    SplitReach reach{bullet.boxLo, bullet.boxHi};
+    placeJointSplitPoints(joints, &p.constraints[p.constraints.size() - joints.constraints.size()], reach);
+    setSplitExtents(p, reach.lo, reach.hi);
 }
 
 void StepGatherer::releaseBodies() {

@@ -84,8 +84,9 @@ private:
 // The global split's geometry, which only a step that is split reads (a step solved whole or on
 // the host does without it): each joint's split point (its constraint's position; a contact
 // constraint's is its points' centre, set by the gather) and each dynamic body's extent
-// (SplitBody::extent: the largest edge of the box that holds its AABB and its joints' split
-// points). Call it on a finished step, before the split.
+// (SplitBody::extent: the largest edge of the box that holds its AABB, read by the gather
+// (BulletStep::boxLo, boxHi), and its joints' split points). Call it on a finished step, before
+// the split.
 void addSplitGeometry(StepProblem& p, const BulletStep& bullet);
 
 }  // namespace btocl

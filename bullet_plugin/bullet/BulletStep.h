@@ -17,6 +17,9 @@ namespace btocl {
 struct BulletStep {
     std::vector<btRigidBody*> original;        // per solver body; null for the fixed body
     std::vector<btTransform> worldTransforms;  // per solver body, at the step's start (push)
+    // Per solver body, its shape's box at the step's start (a body without a shape: its centre),
+    // for the global split's reach: read for dynamic bodies alone (addSplitGeometry).
+    std::vector<btVector3> boxLo, boxHi;
     std::vector<btPersistentManifold*> manifoldOfConstraint;  // per constraint; null for a joint
     std::vector<btManifoldPoint*> manifoldPoints;             // per contact point
     // Whether an object of a manifold may have anisotropic friction: the gather says when none
