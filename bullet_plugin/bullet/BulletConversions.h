@@ -16,6 +16,14 @@ inline btoclFloat4 toFloat4(const btVector3& v, float w = 0) { return {v.x(), v.
 inline btVector3 toVector3(const btoclFloat4& f) { return btVector3(f.x, f.y, f.z); }
 inline bool isFinite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
+// Pointers to protected members of a collision object that the gather and the write-back ask
+// for ahead (a class of its own names them; any collision object is read through them).
+struct CollisionObjectMembers : btCollisionObject {
+    static constexpr int btCollisionObject::*companionId = &CollisionObjectMembers::m_companionId;
+    static constexpr int btCollisionObject::*anisotropy = &CollisionObjectMembers::m_hasAnisotropicFriction;
+    static constexpr int btCollisionObject::*updateRevision = &CollisionObjectMembers::m_updateRevision;
+};
+
 // A rigid body as SI's solver body holds it (initSolverBody): inverse mass and linear factor,
 // angular factor, world inverse inertia, velocities; no centre or external impulses (the gather
 // adds them). solverBody: the body has a solver body of its own (w lanes: dynamic, rigid); false

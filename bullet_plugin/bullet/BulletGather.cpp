@@ -60,19 +60,12 @@ void prefetchPointsForCount(const btPersistentManifold* m) {
         __builtin_prefetch(first + size_t(j) * sizeof(btManifoldPoint) + offsetof(btManifoldPoint, m_distance1));
 }
 
-// The members of a collision object that the count reads: pointers to them, for asking for their
-// lines ahead (they are protected; a class of its own names them).
-struct ObjectMembersReadByCount : btCollisionObject {
-    static constexpr int btCollisionObject::*companionId = &ObjectMembersReadByCount::m_companionId;
-    static constexpr int btCollisionObject::*anisotropy = &ObjectMembersReadByCount::m_hasAnisotropicFriction;
-};
-
 // The lines of a manifold's two objects that the count reads: its tail, asked for before, holds
 // their addresses by now.
 void prefetchObjectsForCount(const btPersistentManifold* m) {
     for (const btCollisionObject* o : {m->getBody0(), m->getBody1()}) {
-        __builtin_prefetch(&(o->*ObjectMembersReadByCount::companionId));
-        __builtin_prefetch(&(o->*ObjectMembersReadByCount::anisotropy));
+        __builtin_prefetch(&(o->*CollisionObjectMembers::companionId));
+        __builtin_prefetch(&(o->*CollisionObjectMembers::anisotropy));
     }
 }
 

@@ -8,8 +8,30 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include <cstddef>
+
 namespace btocl {
 namespace {
+
+// The lines of a Bullet point that the write-back writes, from its flags to its second friction
+// direction: two of its four.
+void askForPointWrites(const btManifoldPoint* point) {
+    constexpr size_t first = offsetof(btManifoldPoint, m_contactPointFlags);
+    constexpr size_t end = offsetof(btManifoldPoint, m_lateralFrictionDir2) + sizeof(btVector3);
+    static_assert(offsetof(btManifoldPoint, m_appliedImpulse) > first && offsetof(btManifoldPoint, m_appliedImpulseLateral2) < end &&
+                      offsetof(btManifoldPoint, m_lateralFrictionDir1) > first,
+                  "the fields written lie between the flags and the second friction direction");
+    prefetchBytes(reinterpret_cast<const char*>(point) + first, end - first, true);
+}
+
+// The lines of a rigid body that the write-back writes (its velocities and their revision count,
+// its companion id) but its transform, which a push alone writes.
+void askForBodyWrites(const btRigidBody* body) {
+    __builtin_prefetch(&body->getLinearVelocity(), 1);
+    __builtin_prefetch(&body->getAngularVelocity(), 1);
+    __builtin_prefetch(&(body->*CollisionObjectMembers::updateRevision), 1);
+    __builtin_prefetch(&(body->*CollisionObjectMembers::companionId), 1);
+}
 
 // One walk over the manifold points (scattered in memory, so a few are fetched ahead).
 void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
@@ -21,7 +43,7 @@ void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btCon
     // A point's friction rows are found by their index (StepProblem::firstFrictionRowOf), not read
     // from the point's record (a cache line a point, for 4 bytes).
     parallelFor(n, [&](size_t i) {
-        if (i + 8 < n) prefetchBytes(bullet.manifoldPoints[i + 8], sizeof(btManifoldPoint), true);
+        if (i + 8 < n) askForPointWrites(bullet.manifoldPoints[i + 8]);
         btManifoldPoint* pt = bullet.manifoldPoints[i];
         if (impulses) {
             const size_t f = size_t(p.firstFrictionRowOf(int(i)));
@@ -40,6 +62,7 @@ void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btCon
 void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     parallelFor(size_t(p.numBodies()), [&](size_t k) {
         const size_t i = k + 1;
+        if (i + 8 < bullet.original.size()) askForBodyWrites(bullet.original[i + 8]);  // scattered in memory
         btRigidBody* rb = bullet.original[i];
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
