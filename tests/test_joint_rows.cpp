@@ -359,11 +359,6 @@ TEST_CASE("the host reference solve of joints gives SI's velocities, impulses an
             break;
         }
     }
-    // No gyroscopic term, so that the bodies' input is SI's to the bit: the gather's form of it is
-    // Bullet's to float rounding (its own test in test_parity_bodies.cpp), which the
-    // joints' feedback, summed over the iterations, would carry past the bound below.
-    for (btRigidBody* body : w.bodies())
-        body->setFlags(body->getFlags() & ~BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
     for (int i = 0; i < steps; ++i) w.step();
     const PredictedSI::Worst& worst = pw.solver->worst;
     INFO("worst relative difference over " << steps << " steps: velocity " << worst.velocity << ", joint impulse "

@@ -71,33 +71,6 @@ inline SolveSettings solveSettingsOf(const btContactSolverInfo& info, bool rotat
     return s;
 }
 
-// The implicit gyroscopic impulse in the body's frame (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY):
-// one Newton step of I w' + dt w' x I w' = I w from w, the change of world angular velocity.
-// Bullet's computeGyroscopicImpulseImplicit_Body turns the basis into a quaternion and rotates by
-// it twice; here the basis rotates, the same rotation to float rounding, and the record of a body
-// takes less time (docs/performance.md, "The gather's bodies"). A zero inverse inertia is a zero
-// inertia, as Bullet's getLocalInertia; a near-singular Jacobian is not inverted, as its solve33.
-inline btVector3 gyroscopicImpulseInBodyFrame(const btMatrix3x3& basis, const btVector3& invInertiaLocal,
-                                              const btVector3& angularVelocity, btScalar dt) {
-    btScalar inertia[3], w[3], l[3];
-    for (int i = 0; i < 3; ++i) {
-        inertia[i] = invInertiaLocal[i] != 0 ? btScalar(1) / invInertiaLocal[i] : btScalar(0);
-        w[i] = basis[0][i] * angularVelocity[0] + basis[1][i] * angularVelocity[1] + basis[2][i] * angularVelocity[2];
-        l[i] = inertia[i] * w[i];
-    }
-    const btVector3 wb(w[0], w[1], w[2]), lb(l[0], l[1], l[2]);
-    const btVector3 residual = wb.cross(lb) * dt;
-    // Columns of the Jacobian I + dt (skew(w) I - skew(I w)).
-    const btVector3 c0(inertia[0], dt * (w[2] * inertia[0] - l[2]), dt * (l[1] - w[1] * inertia[0]));
-    const btVector3 c1(dt * (l[2] - w[2] * inertia[1]), inertia[1], dt * (w[0] * inertia[1] - l[0]));
-    const btVector3 c2(dt * (w[1] * inertia[2] - l[1]), dt * (l[0] - w[0] * inertia[2]), inertia[2]);
-    const btVector3 c12 = c1.cross(c2);
-    btScalar det = c0.dot(c12);
-    if (std::fabs(det) > SIMD_EPSILON) det = btScalar(1) / det;
-    const btVector3 step(det * residual.dot(c12), det * c0.dot(residual.cross(c2)), det * c0.dot(c1.cross(residual)));
-    return basis * (wb - step) - angularVelocity;
-}
-
 // What the contact row setup reads of a btContactSolverInfo (kernels/row_setup.h).
 inline btoclSetupParams setupParamsOf(const btContactSolverInfo& info, int numPoints) {
     btoclSetupParams prm{};

@@ -125,9 +125,8 @@ void StepGatherer::fillSolverBody(int index) {
             torqueImpulse -= rb->computeGyroscopicForceExplicit(m_info.m_maxGyroscopicForce) * I * dt;
         if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD)
             torqueImpulse += rb->computeGyroscopicImpulseImplicit_World(dt);
-        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)  // every body's, by default
-            torqueImpulse += gyroscopicImpulseInBodyFrame(xf.getBasis(), rb->getInvInertiaDiagLocal(),
-                                                          rb->getAngularVelocity(), dt);
+        if (rb->getFlags() & BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY)
+            torqueImpulse += rb->computeGyroscopicImpulseImplicit_Body(dt);
     }
     b.externalTorqueImpulse = toFloat4(torqueImpulse);
 
