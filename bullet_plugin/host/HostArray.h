@@ -96,6 +96,19 @@ void moveToSource(HostArray<T>& array, HostMemorySource* source) {
     array = std::move(moved);
 }
 
+// Sized for every element to be overwritten: growth keeps a quarter to spare (a scene that grows
+// for some steps would regrow its arrays each step, fresh memory to fault in each time) and copies
+// none of the old elements, which the caller overwrites (a copy would fault the new pages in, on
+// the calling thread).
+template <class T, class Allocator>
+void sizeForOverwrite(std::vector<T, Allocator>& v, std::size_t n) {
+    if (n > v.capacity()) {
+        v.clear();
+        v.reserve(n + n / 4);
+    }
+    v.resize(n);
+}
+
 // std::allocator, but an element made without a value is default-initialised: a row array resized
 // for rows that are all written next is not zeroed first (a joint-heavy step's joint rows were a
 // memset of hundreds of KB each step).
