@@ -333,7 +333,7 @@ void StepGatherer::packManifolds() {
     fillNewBodies();  // the bodies named by addBodies: the count reads whether they can move
     // Sized with room to spare: a scene's manifolds grow for many steps, and each exact-fit
     // regrowth is fresh memory, which costs page faults.
-    sizeForOverwrite(m_slots, numManifolds);
+    sizeForOverwrite(m_slots, numManifolds, Regrowth::QuarterSpare);
     parallelFor(numManifolds, [&](size_t m) {
         if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
         if (m + kPrefetchAhead < numManifolds) {
@@ -372,10 +372,10 @@ void StepGatherer::packManifolds() {
         numRolling += 3 * slot.numRolling;
     }
     p.regions = btoclRowRegionsOf(numPoints, numPoints * frictionRows, numRolling, 0);
-    sizeForOverwrite(p.points, size_t(numPoints));
-    sizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
-    sizeForOverwrite(p.constraints, size_t(numConstraints));
-    sizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints));
+    sizeForOverwrite(p.points, size_t(numPoints), Regrowth::QuarterSpare);
+    sizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints), Regrowth::QuarterSpare);
+    sizeForOverwrite(p.constraints, size_t(numConstraints), Regrowth::QuarterSpare);
+    sizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints), Regrowth::QuarterSpare);
 
     parallelFor(numManifolds, [&](size_t m) {
         const size_t ahead = m + kPrefetchAhead;
