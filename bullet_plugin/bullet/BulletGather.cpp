@@ -69,6 +69,14 @@ void prefetchObjectsForCount(const btPersistentManifold* m) {
     }
 }
 
+// Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
+// contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
+template <class T, class Allocator>
+void resizeForOverwrite(std::vector<T, Allocator>& v, size_t n) {
+    if (n > v.capacity()) v.reserve(n + n / 4);
+    v.resize(n);
+}
+
 }  // namespace
 
 void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
@@ -333,7 +341,7 @@ void StepGatherer::packManifolds() {
     fillNewBodies();  // the bodies named by addBodies: the count reads whether they can move
     // Sized with room to spare: a scene's manifolds grow for many steps, and each exact-fit
     // regrowth is fresh memory, which costs page faults.
-    sizeForOverwrite(m_slots, numManifolds, Regrowth::QuarterSpare);
+    resizeForOverwrite(m_slots, numManifolds);
     parallelFor(numManifolds, [&](size_t m) {
         if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
         if (m + kPrefetchAhead < numManifolds) {
@@ -372,10 +380,10 @@ void StepGatherer::packManifolds() {
         numRolling += 3 * slot.numRolling;
     }
     p.regions = btoclRowRegionsOf(numPoints, numPoints * frictionRows, numRolling, 0);
-    sizeForOverwrite(p.points, size_t(numPoints), Regrowth::QuarterSpare);
-    sizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints), Regrowth::QuarterSpare);
-    sizeForOverwrite(p.constraints, size_t(numConstraints), Regrowth::QuarterSpare);
-    sizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints), Regrowth::QuarterSpare);
+    resizeForOverwrite(p.points, size_t(numPoints));
+    resizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
+    resizeForOverwrite(p.constraints, size_t(numConstraints));
+    resizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints));
 
     parallelFor(numManifolds, [&](size_t m) {
         const size_t ahead = m + kPrefetchAhead;

@@ -6,7 +6,6 @@
 // where the driver would otherwise copy pageable memory through a pinned buffer of its own first.
 #pragma once
 
-#include <algorithm>
 #include <cstddef>
 #include <memory>
 #include <new>
@@ -95,23 +94,6 @@ void moveToSource(HostArray<T>& array, HostMemorySource* source) {
     moved.reserve(array.capacity());
     moved.assign(array.begin(), array.end());
     array = std::move(moved);
-}
-
-// How an array sized for overwriting regrows: as std::vector (twice what it held, or what is asked
-// if more), or to what is asked and a quarter to spare (the gather's: a settling scene's contacts
-// grow for a few steps, and an exact fit would regrow each of them, fresh memory each time).
-enum class Regrowth { Double, QuarterSpare };
-
-// Sized for every element to be overwritten: a regrowth copies none of the old elements, which the
-// caller overwrites (a copy would fault the new pages in, on the calling thread).
-template <class T, class Allocator>
-void sizeForOverwrite(std::vector<T, Allocator>& v, std::size_t n, Regrowth regrowth = Regrowth::Double) {
-    if (n > v.capacity()) {
-        const std::size_t capacity = regrowth == Regrowth::Double ? std::max(n, 2 * v.capacity()) : n + n / 4;
-        v.clear();
-        v.reserve(capacity);
-    }
-    v.resize(n);
 }
 
 // std::allocator, but an element made without a value is default-initialised: a row array resized

@@ -100,7 +100,7 @@ BTOCL_LANES_INLINE LaneMask solveRows(const float* row, float* applied, LaneBodi
 
 // Slot after slot as setup.cl's setupLaneSlots sets them up (lane_setup.h): the same bits.
 void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
-    sizeForOverwrite(out, p.bodies.size() * BTOCL_BODY_PER_UNIT_FLOATS);
+    out.resize(p.bodies.size() * BTOCL_BODY_PER_UNIT_FLOATS);
     parallelFor(p.bodies.size(), [&](size_t body) {
         btoclSetupBodyPerUnit(p.bodies.data(), p.deltas.data(), int(body), out.data(), flags);
     }, kRigidBodyWeight);
@@ -145,11 +145,11 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, Lane
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
                                   ", not " + std::to_string(layout.lanes));
     const size_t numSlots = layout.slots.size();
-    sizeForOverwrite(out.rows, size_t(layout.numBlocks) * BTOCL_LANE_ROW_FLOATS * W);
-    sizeForOverwrite(out.applied, size_t(layout.numBlocks) * W);
-    sizeForOverwrite(out.pushApplied, size_t(layout.numBlocks) * W);
+    out.rows.resize(size_t(layout.numBlocks) * BTOCL_LANE_ROW_FLOATS * W);
+    out.applied.resize(size_t(layout.numBlocks) * W);
+    out.pushApplied.resize(size_t(layout.numBlocks) * W);
     out.inVectors.resize(numSlots);
-    sizeForOverwrite(p.lateralDirs, 2 * p.points.size());
+    p.lateralDirs.resize(2 * p.points.size());
     // Rows larger than the caches near the cores are streamed past them: the solve reads them from
     // memory either way, and a line written whole need not be read first. Smaller ones stay, for
     // the solve's first pass.
@@ -535,7 +535,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     // Every row's impulse back in gather order, as the write-back reads them (a dense block has
     // 600K rows).
     const std::vector<int>& rowMap = m_layout.rowMap;
-    sizeForOverwrite(p.appliedImpulses, rowMap.size());
+    p.appliedImpulses.resize(rowMap.size());
     const size_t contactRows = m_hasJoints ? size_t(m_firstJointRow) : rowMap.size();
     parallelFor(contactRows, [&](size_t r) { p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])]; });
     for (size_t r = contactRows; r < rowMap.size(); ++r)
