@@ -35,6 +35,14 @@ namespace {
 
 constexpr size_t kPrefetchAhead = 4;
 
+// A solver body's traits (StepGatherer::m_bodyTraits): its inverse mass is not (nearly) zero, as
+// SI tests it; it is one of the step's dynamic bodies (BTOCL_BODY_IS_DYNAMIC).
+constexpr unsigned char kBodyMoves = 1, kBodyDynamic = 2;
+
+unsigned char traitsOf(const btoclBody& b) {
+    return (toVector3(b.invMass).fuzzyZero() ? 0 : kBodyMoves) | (BTOCL_BODY_IS_DYNAMIC(b) ? kBodyDynamic : 0);
+}
+
 // A manifold's tail: the lines after its points (bodies, count and thresholds).
 void prefetchTail(const btPersistentManifold* m) {
     const char* tail = reinterpret_cast<const char*>(&m->getContactPoint(0)) + MANIFOLD_CACHE_SIZE * sizeof(btManifoldPoint);
@@ -88,6 +96,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     m_bullet.original.assign(1, nullptr);
     p.bodies.assign(1, btoclBody{});
     p.deltas.assign(1, btoclBodyDelta{});
+    m_bodyTraits.assign(1, 0);  // the fixed body neither moves nor is dynamic
     m_bullet.worldTransforms.assign(1, btTransform::getIdentity());
     m_bullet.boxLo.assign(1, btVector3(0, 0, 0));
     m_bullet.boxHi.assign(1, btVector3(0, 0, 0));
@@ -137,6 +146,7 @@ void StepGatherer::fillSolverBody(int index) {
     btVector3 lo = xf.getOrigin(), hi = lo;
     if (const btCollisionShape* shape = rb->getCollisionShape(); shape && split.dynamic) shape->getAabb(xf, lo, hi);
     p.bodies[size_t(index)] = b;
+    m_bodyTraits[size_t(index)] = traitsOf(b);
     p.deltas[size_t(index)] = btoclBodyDelta{};
     m_bullet.worldTransforms[size_t(index)] = xf;
     m_bullet.boxLo[size_t(index)] = lo;
@@ -150,6 +160,7 @@ void StepGatherer::fillNewBodies() {
     const size_t first = p.bodies.size(), end = m_bullet.original.size();
     p.bodies.resize(end);
     p.deltas.resize(end);
+    m_bodyTraits.resize(end);
     m_bullet.worldTransforms.resize(end);
     m_bullet.boxLo.resize(end);
     m_bullet.boxHi.resize(end);
@@ -239,12 +250,10 @@ void StepGatherer::addJointRows() {
     rows.clear();
 }
 
-// Two bodies that cannot move are left out (SI tests the inverse-mass vectors). Reads the
-// bodies' records: both must be filled.
+// Two bodies that cannot move are left out (SI tests the inverse-mass vectors). Both bodies'
+// records must be filled.
 bool StepGatherer::canMove(const ManifoldSlot& slot) const {
-    const StepProblem& p = m_problem;
-    return !(toVector3(p.bodies[size_t(slot.bodyA)].invMass).fuzzyZero() &&
-             toVector3(p.bodies[size_t(slot.bodyB)].invMass).fuzzyZero());
+    return ((m_bodyTraits[size_t(slot.bodyA)] | m_bodyTraits[size_t(slot.bodyB)]) & kBodyMoves) != 0;
 }
 
 // Looks up a manifold's bodies and counts its points in reach, reading only what the count
@@ -285,8 +294,8 @@ void StepGatherer::packManifold(size_t m) {
     btoclConstraint c{};
     c.bodyA = idA;
     c.bodyB = idB;
-    c.dynamicA = BTOCL_BODY_IS_DYNAMIC(p.bodies[idA]) != 0;
-    c.dynamicB = BTOCL_BODY_IS_DYNAMIC(p.bodies[idB]) != 0;
+    c.dynamicA = (m_bodyTraits[size_t(idA)] & kBodyDynamic) != 0;
+    c.dynamicB = (m_bodyTraits[size_t(idB)] & kBodyDynamic) != 0;
     c.firstRow[BTOCL_ROWS_NORMAL] = slot.firstPoint;
     c.firstRow[BTOCL_ROWS_FRICTION] = p.firstFrictionRowOf(slot.firstPoint);
     c.firstRow[BTOCL_ROWS_ROLLING] = p.rowStart(BTOCL_ROWS_ROLLING) + slot.firstRolling;

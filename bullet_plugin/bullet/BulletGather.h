@@ -79,6 +79,9 @@ private:
     StepProblem m_problem;
     BulletStep m_bullet;
     std::vector<ManifoldSlot> m_slots;  // one per manifold, reused from step to step
+    // Per solver body, what the manifolds' passes ask of it (kBodyMoves, kBodyDynamic): a byte
+    // that stays in the caches, where its record spans three lines.
+    std::vector<unsigned char> m_bodyTraits;
 };
 
 // The global split's geometry, which only a step that is split reads (a step solved whole or on

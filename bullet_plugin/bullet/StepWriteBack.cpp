@@ -13,6 +13,10 @@
 namespace btocl {
 namespace {
 
+// Points and bodies lie scattered in memory: each walk asks for the lines it writes this many
+// elements ahead.
+constexpr size_t kWriteAhead = 8;
+
 // The lines of a Bullet point that the write-back writes, from its flags to its second friction
 // direction: two of its four.
 void askForPointWrites(const btManifoldPoint* point) {
@@ -33,7 +37,7 @@ void askForBodyWrites(const btRigidBody* body) {
     __builtin_prefetch(&(body->*CollisionObjectMembers::companionId), 1);
 }
 
-// One walk over the manifold points (scattered in memory, so a few are fetched ahead).
+// One walk over the manifold points.
 void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     const bool impulses = (info.m_solverMode & SOLVER_USE_WARMSTARTING) != 0;
     const bool two = p.frictionRowsPerPoint() == 2;
@@ -43,7 +47,7 @@ void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btCon
     // A point's friction rows are found by their index (StepProblem::firstFrictionRowOf), not read
     // from the point's record (a cache line a point, for 4 bytes).
     parallelFor(n, [&](size_t i) {
-        if (i + 8 < n) askForPointWrites(bullet.manifoldPoints[i + 8]);
+        if (i + kWriteAhead < n) askForPointWrites(bullet.manifoldPoints[i + kWriteAhead]);
         btManifoldPoint* pt = bullet.manifoldPoints[i];
         if (impulses) {
             const size_t f = size_t(p.firstFrictionRowOf(int(i)));
@@ -62,7 +66,7 @@ void writeBackPoints(const StepProblem& p, const BulletStep& bullet, const btCon
 void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btContactSolverInfo& info) {
     parallelFor(size_t(p.numBodies()), [&](size_t k) {
         const size_t i = k + 1;
-        if (i + 8 < bullet.original.size()) askForBodyWrites(bullet.original[i + 8]);  // scattered in memory
+        if (i + kWriteAhead < bullet.original.size()) askForBodyWrites(bullet.original[i + kWriteAhead]);
         btRigidBody* rb = bullet.original[i];
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
