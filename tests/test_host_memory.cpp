@@ -1,6 +1,7 @@
 // The step's host arrays in pinned memory (PinnedHostMemory, as a GPU gets them) against the
 // same arrays on the heap: the same elements through growth, copies on the heap, every block
-// handed back, and the heap taken where the device has no pinned memory to give.
+// handed back, and the heap taken where the device has no pinned memory to give; large arrays on
+// the heap in huge pages.
 #include "HostArray.h"
 #include "OclRuntime.h"
 #include "PinnedHostMemory.h"
@@ -8,6 +9,9 @@
 #include <catch2/catch.hpp>
 
 #include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 using namespace btocl;
@@ -54,4 +58,58 @@ TEST_CASE("pinned memory past what the device can allocate falls back to the hea
     CHECK(pinned.bytesHeld() == 1000);
     CHECK(pinned.deallocate(p));
     CHECK(pinned.bytesHeld() == 0);
+}
+
+namespace {
+
+// The flags of the mapping that holds `address` in /proc/self/smaps ("" where there is none).
+std::string mappingFlagsAt(const void* address) {
+    std::ifstream smaps("/proc/self/smaps");
+    const auto at = reinterpret_cast<std::uintptr_t>(address);
+    std::string line;
+    bool inside = false;
+    while (std::getline(smaps, line)) {
+        std::uintptr_t begin = 0, end = 0;
+        char dash = 0;
+        std::istringstream range(line);
+        if (range >> std::hex >> begin >> dash >> end && dash == '-') {
+            inside = begin <= at && at < end;
+            continue;
+        }
+        if (inside && line.rfind("VmFlags:", 0) == 0) return line;
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("large host arrays on the heap take whole huge pages, small ones stay page-aligned", "[memory]") {
+    std::vector<float> want;
+    HostArray<float> array;
+    bool sawSmall = false, sawLarge = false;
+    for (int i = 0; i < 3000000; ++i) {  // 12 MB: grows past the huge pages' 4 MB
+        if (array.size() == array.capacity() && !array.empty()) {
+            const auto address = reinterpret_cast<std::uintptr_t>(array.data());
+            const bool large = array.capacity() * sizeof(float) >= (std::size_t(4) << 20);
+            CHECK(address % (large ? (std::size_t(2) << 20) : kHostArrayAlignment) == 0);
+            sawSmall = sawSmall || !large;
+            sawLarge = sawLarge || large;
+        }
+        array.push_back(float(i) * 0.5f);
+        want.push_back(float(i) * 0.5f);
+    }
+    CHECK(sawSmall);
+    CHECK(sawLarge);
+    CHECK(std::vector<float>(array.begin(), array.end()) == want);
+    CHECK(reinterpret_cast<std::uintptr_t>(array.data()) % (std::size_t(2) << 20) == 0);
+#ifdef __linux__
+    // Advised as huge (VmFlags "hg"): whether the kernel backs them so is its choice.
+    const std::string flags = mappingFlagsAt(array.data() + array.size() / 2);
+    INFO(flags);
+    CHECK(flags.find(" hg") != std::string::npos);
+#endif
+    // Shrunk and copied, the copies take what their size asks.
+    HostArray<float> small(array.begin(), array.begin() + 1000);
+    CHECK(reinterpret_cast<std::uintptr_t>(small.data()) % kHostArrayAlignment == 0);
+    CHECK(std::vector<float>(small.begin(), small.end()) == std::vector<float>(want.begin(), want.begin() + 1000));
 }

@@ -17,6 +17,11 @@ namespace btocl {
 
 constexpr std::size_t kHostArrayAlignment = 4096;
 
+// Heap memory for a host array: page-aligned; a large one in whole huge pages, which the kernel is
+// asked to back as such (HostArray.cpp). freeHostBytes takes the size it was allocated with.
+void* allocateHostBytes(std::size_t bytes);
+void freeHostBytes(void* p, std::size_t bytes) noexcept;
+
 // Where a host array's storage may come from instead of the heap.
 class HostMemorySource {
 public:
@@ -63,11 +68,11 @@ struct HostArrayAllocator : DefaultInitConstruct {
     T* allocate(std::size_t n) {
         if (source)
             if (void* p = source->allocate(n * sizeof(T))) return static_cast<T*>(p);
-        return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kHostArrayAlignment)));
+        return static_cast<T*>(allocateHostBytes(n * sizeof(T)));
     }
-    void deallocate(T* p, std::size_t) noexcept {
+    void deallocate(T* p, std::size_t n) noexcept {
         if (source && source->deallocate(p)) return;
-        ::operator delete(p, std::align_val_t(kHostArrayAlignment));
+        freeHostBytes(p, n * sizeof(T));
     }
     HostArrayAllocator select_on_container_copy_construction() const noexcept { return HostArrayAllocator(); }
 
