@@ -87,11 +87,11 @@ TEST_CASE("large host arrays on the heap take whole huge pages, small ones stay 
     std::vector<float> want;
     HostArray<float> array;
     bool sawSmall = false, sawLarge = false;
-    for (int i = 0; i < 3000000; ++i) {  // 12 MB: grows past the huge pages' 4 MB
+    for (int i = 0; i < 3000000; ++i) {  // 12 MB: grows past kHugeArrayMinBytes
         if (array.size() == array.capacity() && !array.empty()) {
             const auto address = reinterpret_cast<std::uintptr_t>(array.data());
-            const bool large = array.capacity() * sizeof(float) >= (std::size_t(4) << 20);
-            CHECK(address % (large ? (std::size_t(2) << 20) : kHostArrayAlignment) == 0);
+            const bool large = array.capacity() * sizeof(float) >= kHugeArrayMinBytes;
+            CHECK(address % (large ? kHugePageBytes : kHostArrayAlignment) == 0);
             sawSmall = sawSmall || !large;
             sawLarge = sawLarge || large;
         }
@@ -101,7 +101,7 @@ TEST_CASE("large host arrays on the heap take whole huge pages, small ones stay 
     CHECK(sawSmall);
     CHECK(sawLarge);
     CHECK(std::vector<float>(array.begin(), array.end()) == want);
-    CHECK(reinterpret_cast<std::uintptr_t>(array.data()) % (std::size_t(2) << 20) == 0);
+    CHECK(reinterpret_cast<std::uintptr_t>(array.data()) % kHugePageBytes == 0);
 #ifdef __linux__
     // Advised as huge (VmFlags "hg") where the kernel has transparent huge pages: whether it
     // backs them so is its choice.
@@ -111,7 +111,7 @@ TEST_CASE("large host arrays on the heap take whole huge pages, small ones stay 
         CHECK(flags.find(" hg") != std::string::npos);
     }
 #endif
-    // Shrunk and copied, the copies take what their size asks.
+    // A small array made from a part of it takes page-aligned memory, not huge pages.
     HostArray<float> small(array.begin(), array.begin() + 1000);
     CHECK(reinterpret_cast<std::uintptr_t>(small.data()) % kHostArrayAlignment == 0);
     CHECK(std::vector<float>(small.begin(), small.end()) == std::vector<float>(want.begin(), want.begin() + 1000));

@@ -7,10 +7,9 @@ namespace {
 
 // A large array (a block's lane rows, points, impulses, bodies) is read at random or streamed
 // many times a step: on 4 KiB pages its lookups overflow the TLB, and its growth costs a page
-// fault a page. Arrays from this size take whole 2 MiB pages of their own, advised as huge
-// (transparent huge pages, where the kernel offers them on request; a hint, nothing else changes).
-constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
-constexpr std::size_t kHugeArrayMinBytes = std::size_t(4) << 20;
+// fault a page. Arrays from kHugeArrayMinBytes take whole huge pages of their own, advised as
+// such (transparent huge pages, where the kernel offers them on request; a hint, nothing else
+// changes).
 
 bool takesHugePages(std::size_t bytes) { return bytes >= kHugeArrayMinBytes; }
 

@@ -16,6 +16,9 @@
 namespace btocl {
 
 constexpr std::size_t kHostArrayAlignment = 4096;
+// Arrays of at least kHugeArrayMinBytes take whole pages of kHugePageBytes (HostArray.cpp).
+constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
+constexpr std::size_t kHugeArrayMinBytes = std::size_t(4) << 20;
 
 // Heap memory for a host array: page-aligned; a large one in whole huge pages, which the kernel is
 // asked to back as such (HostArray.cpp). freeHostBytes takes the size it was allocated with.
