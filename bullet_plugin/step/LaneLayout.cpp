@@ -5,6 +5,7 @@
 #include "btOpenCLSolverError.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstddef>
 #include <functional>
 #include <utility>
@@ -35,16 +36,15 @@ bool rowsFitLanes(const btoclRowRegions& regions, int frictionPerPoint) {
 
 namespace {
 
-// A group of a bundle as the slots take it: its first place in the solve order, its next
-// constraint's position in it.
-struct GroupCursor {
-    int offset, position, count;
-    int remaining() const { return count - position; }
+// A group of a bundle: its first place in the solve order, its constraints.
+struct GroupSpan {
+    int offset, count;
 };
 
-// What a slot reads of a constraint, by solve order.
+// What a slot reads of a constraint, by solve order; lockA and lockB: its dynamic bodies (-1
+// where a side's body is not dynamic).
 struct LaneRecord {
-    int constraint, bodyA, bodyB, points, firstNormal, firstFriction;
+    int constraint, bodyA, bodyB, points, firstNormal, firstFriction, lockA, lockB;
 };
 
 // The constraints' records by solve order, read ahead of the slots on the host's threads: a loop
@@ -62,97 +62,148 @@ void readLaneRecords(const BatchLayout& split, const btoclConstraint* constraint
             throw btOpenCLSolverError(
                 "btOpenCLConstraintSolver: a constraint with rows the lanes do not solve was laid out in lanes");
         records[k] = LaneRecord{ci, c.bodyA, c.bodyB, points, c.firstRow[BTOCL_ROWS_NORMAL],
-                                c.firstRow[BTOCL_ROWS_FRICTION]};
+                                c.firstRow[BTOCL_ROWS_FRICTION], dynamicBodyOf(c, 0), dynamicBodyOf(c, 1)};
     }, kManifoldWeight);
 }
 
-// One bundle: its groups' cursors, then its slots as scheduleBundle chose them (each slot's W
-// lanes as places in the solve order, -1 where empty, and its normal blocks), then where its
-// slots and blocks begin in the layout. Bundles are scheduled apart and written apart, in
-// parallel; only the running counts between them are serial.
+// One bundle: its groups, then its slots as scheduleBundle chose them (each slot's W lanes as
+// places in the solve order, -1 where empty, and its normal blocks), then where its slots and
+// blocks begin in the layout. Bundles are scheduled apart and written apart, in parallel; only
+// the running counts between them are serial.
 struct BundlePlan {
-    int firstCursor = 0, endCursor = 0;
+    int firstGroup = 0, endGroup = 0;
     std::vector<int> lanes;
     std::vector<int> normalBlocks;
     int firstSlot = 0, firstNormalBlock = 0;
 };
 
-// A bundle's slots from its groups (in the split's order). A slot's blocks are its lanes' most
-// points, so each slot takes the groups whose next constraints have about as many points: of
-// the blocks P it could have, the one that places the most rows a block (a slot's bodies cost
-// about kSlotBlocks blocks more). A group that has as many constraints left as the bundle has
-// slots left to its length (its total over W, or its longest group) goes first, so the bundle
-// ends near that length.
-void scheduleBundle(GroupCursor* first, GroupCursor* end, int lanes, const std::vector<LaneRecord>& records,
-                    BundlePlan& plan) {
+// A constraint of a bundle as the schedule sees it: the constraints after it in its group that
+// wait on it (the next on each of its dynamic bodies), how many before it it waits on, its points.
+struct Waits {
+    int next[2];
+    int waitsOn, points;
+};
+
+// A thread's arrays for scheduleBundle, kept from bundle to bundle.
+struct ScheduleScratch {
+    // Per body: the last bundle that met it (its number on this thread) and its last constraint
+    // there, so that no pass clears it between bundles.
+    std::vector<std::pair<unsigned, int>> lastOn;
+    unsigned bundle = 0;
+    std::vector<Waits> waits;
+    std::vector<int> place;  // per bundle constraint: its place in the solve order
+    // Ready constraints by their points: a bit each by its place in the split's order, the first
+    // word that may hold one, how many there are.
+    std::vector<std::vector<std::uint64_t>> readyBits;
+    std::vector<std::size_t> firstWord;
+    std::vector<int> readyOf;
+    std::vector<int> taken, freed;
+};
+
+// A bundle's slots from its constraints. A constraint waits on those before it in its group that
+// share a dynamic body with it (the one-lane walk's order on each body, so the same bits); others
+// may pass it. A slot's blocks are its lanes' most points, so each slot takes constraints of
+// about as many points: of the blocks P it could have, the one that places the most rows a block
+// (a slot's bodies cost about kSlotBlocks blocks more), the first ready in the split's order first
+// (their bodies and points lie near in the caches).
+void scheduleBundle(const GroupSpan* first, const GroupSpan* end, int lanes, const std::vector<LaneRecord>& records,
+                    ScheduleScratch& s, BundlePlan& plan) {
     constexpr double kSlotBlocks = 1.0;
-    const auto pointsOf = [&](const GroupCursor& g) { return records[std::size_t(g.offset + g.position)].points; };
-    std::vector<GroupCursor*> active, taken;
-    std::vector<std::vector<GroupCursor*>> byPoints;  // by their next constraint's points
-    long long total = 0;
-    int longest = 0;
-    for (GroupCursor* g = first; g != end; ++g) {
-        total += g->count;
-        longest = std::max(longest, g->count);
-        if (g->count > 0) active.push_back(g);
+    // The bundle's constraints in the split's order, and their waits on each body.
+    s.place.clear();
+    for (const GroupSpan* g = first; g != end; ++g)
+        for (int k = g->offset; k < g->offset + g->count; ++k) s.place.push_back(k);
+    const int n = int(s.place.size());
+    s.waits.resize(std::size_t(n));
+    if (++s.bundle == 0) {  // the numbers wrapped: the marks of old bundles cleared
+        std::fill(s.lastOn.begin(), s.lastOn.end(), std::pair<unsigned, int>{0u, -1});
+        s.bundle = 1;
     }
-    const long long length = std::max<long long>(longest, (total + lanes - 1) / lanes);
+    const unsigned bundle = s.bundle;
+    int mostPoints = 0;
+    for (int j = 0; j < n; ++j) {
+        const LaneRecord& r = records[std::size_t(s.place[std::size_t(j)])];
+        Waits& w = s.waits[std::size_t(j)];
+        w = Waits{{-1, -1}, 0, r.points};
+        mostPoints = std::max(mostPoints, r.points);
+        for (int side = 0; side < 2; ++side) {
+            const int body = side == 0 ? r.lockA : r.lockB;
+            if (body < 0 || (side == 1 && body == r.lockA)) continue;
+            if (std::size_t(body) >= s.lastOn.size()) s.lastOn.resize(std::size_t(body) + 1, {0u, -1});
+            std::pair<unsigned, int>& last = s.lastOn[std::size_t(body)];
+            if (last.first == bundle) {
+                const LaneRecord& b = records[std::size_t(s.place[std::size_t(last.second)])];
+                s.waits[std::size_t(last.second)].next[b.lockA == body ? 0 : 1] = j;
+                ++w.waitsOn;
+            }
+            last = {bundle, j};
+        }
+    }
+    const std::size_t words = (std::size_t(n) + 63) / 64;
+    s.readyBits.resize(std::size_t(mostPoints) + 1);
+    for (auto& bits : s.readyBits) bits.assign(words, 0);
+    s.firstWord.assign(s.readyBits.size(), words);
+    s.readyOf.assign(s.readyBits.size(), 0);
+    const auto makeReady = [&](int j) {
+        const std::size_t points = std::size_t(s.waits[std::size_t(j)].points), word = std::size_t(j) / 64;
+        s.readyBits[points][word] |= std::uint64_t(1) << (j % 64);
+        s.firstWord[points] = std::min(s.firstWord[points], word);
+        ++s.readyOf[points];
+    };
+    // The first ready constraint of `points` in the split's order, taken.
+    const auto take = [&](std::size_t points) {
+        std::vector<std::uint64_t>& bits = s.readyBits[points];
+        std::size_t& w = s.firstWord[points];
+        while (bits[w] == 0) ++w;  // one is ready: readyOf says so
+        const int j = int(w * 64 + std::size_t(__builtin_ctzll(bits[w])));
+        bits[w] &= bits[w] - 1;
+        --s.readyOf[points];
+        s.taken.push_back(j);
+    };
+    for (int j = 0; j < n; ++j)
+        if (s.waits[std::size_t(j)].waitsOn == 0) makeReady(j);
+
     plan.lanes.clear();
     plan.normalBlocks.clear();
-    for (long long slot = 0; !active.empty(); ++slot) {
-        const long long slotsLeft = std::max<long long>(1, length - slot);
-        taken.clear();
-        for (auto& list : byPoints) list.clear();
-        int firstPoints = 0, takenRows = 0;
-        for (GroupCursor* g : active) {
-            const int points = pointsOf(*g);
-            if (g->remaining() >= slotsLeft && int(taken.size()) < lanes) {
-                taken.push_back(g);
-                firstPoints = std::max(firstPoints, points);
-                takenRows += points;
-            } else {
-                if (std::size_t(points) >= byPoints.size()) byPoints.resize(std::size_t(points) + 1);
-                byPoints[std::size_t(points)].push_back(g);
-            }
-        }
+    for (int left = n; left > 0;) {
+        s.taken.clear();
         // The slot's blocks: the most rows a block, counting the slot's bodies.
-        if (std::size_t(firstPoints) >= byPoints.size()) byPoints.resize(std::size_t(firstPoints) + 1);
-        int bestPoints = firstPoints;
-        if (int(taken.size()) < lanes) {
-            double bestScore = -1;
-            int free = lanes - int(taken.size()), rows = takenRows;
-            for (int p = 0; p < int(byPoints.size()); ++p) {
-                const int take = std::min(free, int(byPoints[std::size_t(p)].size()));
-                free -= take;
-                rows += take * p;
-                if (p < firstPoints || (take == 0 && p > firstPoints)) continue;
-                // Rows counted taking the fewest points first: at most what the slot places.
-                const double score = rows / (p + kSlotBlocks);
-                if (score > bestScore) {
-                    bestScore = score;
-                    bestPoints = p;
-                }
+        int bestPoints = 0, free = lanes, rows = 0;
+        double bestScore = -1;
+        for (int p = 0; p <= mostPoints; ++p) {
+            const int count = std::min(free, s.readyOf[std::size_t(p)]);
+            free -= count;
+            rows += count * p;
+            if (count == 0) continue;
+            // Rows counted taking the fewest points first: at most what the slot places.
+            const double score = rows / (p + kSlotBlocks);
+            if (score > bestScore) {
+                bestScore = score;
+                bestPoints = p;
             }
-            for (int p = bestPoints; p >= 0 && int(taken.size()) < lanes; --p)
-                for (GroupCursor* g : byPoints[std::size_t(p)]) {
-                    if (int(taken.size()) >= lanes) break;
-                    taken.push_back(g);
-                }
         }
-        // The lanes in the order taken; each group moves on to its next constraint.
+        for (int p = bestPoints; p >= 0 && int(s.taken.size()) < lanes; --p)
+            while (s.readyOf[std::size_t(p)] > 0 && int(s.taken.size()) < lanes) take(std::size_t(p));
+        if (s.taken.empty())  // the split's first constraint not taken is always ready
+            throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane schedule found no constraint ready");
+        // The lanes in the order taken; what waited on them is ready from the next slot.
         int blocks = 0;
+        s.freed.clear();
         for (int i = 0; i < lanes; ++i) {
-            if (i >= int(taken.size())) {
+            if (i >= int(s.taken.size())) {
                 plan.lanes.push_back(-1);
                 continue;
             }
-            GroupCursor& g = *taken[std::size_t(i)];
-            blocks = std::max(blocks, pointsOf(g));
-            plan.lanes.push_back(g.offset + g.position++);
+            const int j = s.taken[std::size_t(i)];
+            const Waits& w = s.waits[std::size_t(j)];
+            blocks = std::max(blocks, w.points);
+            plan.lanes.push_back(s.place[std::size_t(j)]);
+            for (const int after : w.next)
+                if (after >= 0 && --s.waits[std::size_t(after)].waitsOn == 0) s.freed.push_back(after);
         }
+        for (const int j : s.freed) makeReady(j);
         plan.normalBlocks.push_back(blocks);
-        active.erase(std::remove_if(active.begin(), active.end(), [](const GroupCursor* g) { return g->remaining() == 0; }),
-                     active.end());
+        left -= int(s.taken.size());
     }
 }
 
@@ -264,7 +315,7 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     std::vector<int> order, bundleOf, bundleFirst;
     std::vector<std::pair<long long, int>> shortest;
     std::vector<std::pair<int, long long>> setCells;
-    std::vector<GroupCursor> cursors;
+    std::vector<GroupSpan> spans;
     std::vector<BundlePlan> plans;
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         out.setBundleStart[std::size_t(set)] = int(plans.size());
@@ -282,20 +333,20 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         else
             dealBySize(split, firstGroup, numBundles, order, shortest, bundleOf);
         // Each bundle's groups in the split's order (a counting sort by bundle).
-        const int base = int(cursors.size());
+        const int base = int(spans.size());
         bundleFirst.assign(std::size_t(numBundles) + 1, 0);
         for (int k = 0; k < numGroups; ++k) ++bundleFirst[std::size_t(bundleOf[std::size_t(k)]) + 1];
         for (int b = 0; b < numBundles; ++b) bundleFirst[std::size_t(b) + 1] += bundleFirst[std::size_t(b)];
-        cursors.resize(std::size_t(base + numGroups));
+        spans.resize(std::size_t(base + numGroups));
         std::vector<int> fill(bundleFirst.begin(), bundleFirst.end() - 1);
         for (int k = 0; k < numGroups; ++k) {
             const btoclGroup& g = split.groups[std::size_t(firstGroup + k)];
-            cursors[std::size_t(base + fill[std::size_t(bundleOf[std::size_t(k)])]++)] = GroupCursor{g.offset, 0, g.count};
+            spans[std::size_t(base + fill[std::size_t(bundleOf[std::size_t(k)])]++)] = GroupSpan{g.offset, g.count};
         }
         for (int b = 0; b < numBundles; ++b) {
             plans.emplace_back();
-            plans.back().firstCursor = base + bundleFirst[std::size_t(b)];
-            plans.back().endCursor = base + bundleFirst[std::size_t(b) + 1];
+            plans.back().firstGroup = base + bundleFirst[std::size_t(b)];
+            plans.back().endGroup = base + bundleFirst[std::size_t(b) + 1];
         }
     }
     out.setBundleStart[BTOCL_NUM_SETS + 1] = int(plans.size());
@@ -303,7 +354,8 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
     // Every bundle scheduled apart (its groups are its own), then placed after the ones before.
     const std::size_t bundleWeight = kManifoldWeight * (records.size() / std::max<std::size_t>(1, plans.size()) + 1);
     parallelFor(plans.size(), [&](std::size_t b) {
-        scheduleBundle(cursors.data() + plans[b].firstCursor, cursors.data() + plans[b].endCursor, lanes, records,
+        thread_local ScheduleScratch scratch;
+        scheduleBundle(spans.data() + plans[b].firstGroup, spans.data() + plans[b].endGroup, lanes, records, scratch,
                        plans[b]);
     }, bundleWeight);
     int numSlots = 0, normalTotal = 0;
@@ -340,22 +392,45 @@ std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
     const std::size_t numSlots = l.slots.size();
     if (l.laneInts.size() != numSlots * BTOCL_LANE_INTS * std::size_t(W) || l.laneConstraint.size() != numSlots * std::size_t(W))
         return "a slot's lanes are not W";
-    // Where each constraint lies in the split: its set, group and position.
-    std::vector<int> setOf(constraints.size(), -1), groupOf(constraints.size(), -1), positionOf(constraints.size(), -1);
+    // Where each constraint lies in the split: its set and group.
+    std::vector<int> setOf(constraints.size(), -1), groupOf(constraints.size(), -1);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set)
         for (int g = split.setGroupStart[std::size_t(set)]; g < split.setGroupStart[std::size_t(set) + 1]; ++g)
             for (int k = 0; k < split.groups[std::size_t(g)].count; ++k) {
                 const std::size_t ci = std::size_t(split.solveOrder[std::size_t(split.groups[std::size_t(g)].offset + k)]);
                 setOf[ci] = set;
                 groupOf[ci] = g;
-                positionOf[ci] = k;
             }
+    // A group's constraints on each of its dynamic bodies in its order, slot after slot: the
+    // one-lane walk's order on every body.
+    std::vector<int> slotOf(constraints.size(), -1), lastSlotOn;
+    for (std::size_t at = 0; at < l.laneConstraint.size(); ++at) {
+        const int ci = l.laneConstraint[at];
+        if (ci >= 0 && std::size_t(ci) < constraints.size()) slotOf[std::size_t(ci)] = int(at / std::size_t(W));
+    }
+    for (const btoclGroup& g : split.groups) {
+        for (int k = 0; k < g.count; ++k) {
+            const std::size_t ci = std::size_t(split.solveOrder[std::size_t(g.offset + k)]);
+            for (int side = 0; side < 2; ++side) {
+                const int body = dynamicBodyOf(constraints[ci], side);
+                if (body < 0 || slotOf[ci] < 0 || (side == 1 && body == dynamicBodyOf(constraints[ci], 0))) continue;
+                if (std::size_t(body) >= lastSlotOn.size()) lastSlotOn.resize(std::size_t(body) + 1, -1);
+                if (slotOf[ci] <= lastSlotOn[std::size_t(body)]) return "a body's constraints out of their group's order";
+                lastSlotOn[std::size_t(body)] = slotOf[ci];
+            }
+        }
+        for (int k = 0; k < g.count; ++k) {
+            const std::size_t ci = std::size_t(split.solveOrder[std::size_t(g.offset + k)]);
+            for (int side = 0; side < 2; ++side)
+                if (dynamicBodyOf(constraints[ci], side) >= 0) lastSlotOn[std::size_t(dynamicBodyOf(constraints[ci], side))] = -1;
+        }
+    }
     std::vector<int> seen(constraints.size(), 0);
     std::vector<int> rowOwner(std::size_t(l.numBlocks) * std::size_t(W), -1);
     std::vector<int> bodies;
-    // Per group: its bundle, the slot of its constraint last seen, the position of its next.
+    // Per group: its bundle.
     const std::size_t numGroups = split.groups.size();
-    std::vector<int> bundleOfGroup(numGroups, -1), lastSlotOfGroup(numGroups, -1), nextPosition(numGroups, 0);
+    std::vector<int> bundleOfGroup(numGroups, -1);
     for (int set = 0; set <= BTOCL_OVERFLOW_SET; ++set) {
         for (int bi = l.setBundleStart[std::size_t(set)]; bi < l.setBundleStart[std::size_t(set) + 1]; ++bi) {
             const btoclGroup& bundle = l.bundles[std::size_t(bi)];
@@ -375,10 +450,6 @@ std::string validateLaneLayout(const LaneLayout& l, const BatchLayout& split,
                     const std::size_t g = std::size_t(groupOf[std::size_t(ci)]);
                     if (bundleOfGroup[g] < 0) bundleOfGroup[g] = bi;
                     if (bundleOfGroup[g] != bi) return "a group in two bundles";
-                    if (lastSlotOfGroup[g] == int(slot)) return "a group twice in a slot";
-                    if (positionOf[std::size_t(ci)] != nextPosition[g]) return "a group's constraints out of its order";
-                    lastSlotOfGroup[g] = int(slot);
-                    nextPosition[g] += 1;
                     if (ints[BTOCL_LANE_BODY_A * W + i] != c.bodyA || ints[BTOCL_LANE_BODY_B * W + i] != c.bodyB ||
                         ints[BTOCL_LANE_POINTS * W + i] != c.numRows[BTOCL_ROWS_NORMAL] ||
                         ints[BTOCL_LANE_FIRST_POINT * W + i] != c.firstRow[BTOCL_ROWS_NORMAL])

@@ -62,10 +62,10 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
                  int lanes, int frictionPerPoint, int bundlesPerSet, LaneLayout& out);
 
 // The lane layout's invariants against its split: every constraint of the split in one lane of
-// one slot (and no other constraint in any), each group in one bundle of its set, at most once a
-// slot and in its order from slot to slot, no dynamic body twice in a slot, every row placed once
-// in its lane and its slot's blocks, each lane's ints those of its constraint. Returns "" or the
-// first failure.
+// one slot (and no other constraint in any), each group in one bundle of its set, the
+// constraints on each dynamic body in their group's order from slot to slot, no dynamic body
+// twice in a slot, every row placed once in its lane and its slot's blocks, each lane's ints
+// those of its constraint. Returns "" or the first failure.
 std::string validateLaneLayout(const LaneLayout& lanes, const BatchLayout& split,
                                const std::vector<btoclConstraint>& constraints);
 
