@@ -77,6 +77,17 @@ void prefetchObjectsForCount(const btPersistentManifold* m) {
     }
 }
 
+// The manifolds' fixed runs (StepGatherer::placeSlots): the same places whichever thread takes
+// a run. The first manifold of run r (r up to kPlaceRuns: the end).
+constexpr size_t kPlaceRuns = 64;
+size_t runBegin(size_t n, size_t r) { return n * r / kPlaceRuns; }
+
+// A flag that any of the threads may set, read once they are done: a line written only by the
+// first to find it unset.
+void setOnce(std::atomic<bool>& flag) {
+    if (!flag.load(std::memory_order_relaxed)) flag.store(true, std::memory_order_relaxed);
+}
+
 // Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
 // contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
 template <class T, class Allocator>
@@ -266,6 +277,7 @@ void StepGatherer::countPoints(size_t m) {
     // Its bodies are named even without a point, as SI names them.
     slot.bodyA = knownBodyOf(manifold.getBody0());
     slot.bodyB = knownBodyOf(manifold.getBody1());
+    if (slot.bodyA < 0 || slot.bodyB < 0) setOnce(m_someUnnamed);
     slot.numContacts = manifold.getNumContacts();
     if (slot.numContacts == 0) return;  // most of a heap's manifolds: nothing more to read
     slot.anisotropic = hasAnisotropicFriction(manifold.getBody0()) || hasAnisotropicFriction(manifold.getBody1());
@@ -308,7 +320,7 @@ void StepGatherer::packManifold(size_t m) {
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
         if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
-        if (btoclPointMayNeedPush(cp.getDistance(), &p.setupParams)) slot.mayNeedPush = true;
+        if (btoclPointMayNeedPush(cp.getDistance(), &p.setupParams)) setOnce(m_someMayNeedPush);
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
         pt.positionOnA = toFloat4(cp.getPositionWorldOnA(), cp.getDistance());
@@ -341,9 +353,9 @@ void StepGatherer::packManifold(size_t m) {
 
 // Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
 // whether one can move, and its points counted, in parallel; then, on this thread, the bodies
-// first met here named (in SI's order: manifold order) and places given by a running count over
-// the slots alone; then each manifold checked and packed at its places, in parallel. Each pass
-// reads what it needs of a manifold once (docs/performance.md, "The gather").
+// first met here named, if any (in SI's order: manifold order), and places given by a running
+// count over the slots (placeSlots); then each manifold checked and packed at its places, in
+// parallel. Each pass reads what it needs of a manifold once (docs/performance.md, "The gather").
 void StepGatherer::packManifolds() {
     StepProblem& p = m_problem;
     const size_t numManifolds = m_manifolds.size();
@@ -351,44 +363,42 @@ void StepGatherer::packManifolds() {
     // Sized with room to spare: a scene's manifolds grow for many steps, and each exact-fit
     // regrowth is fresh memory, which costs page faults.
     resizeForOverwrite(m_slots, numManifolds);
-    parallelFor(numManifolds, [&](size_t m) {
-        if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
-        if (m + kPrefetchAhead < numManifolds) {
-            prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
-            prefetchObjectsForCount(m_manifolds[m + kPrefetchAhead]);
+    m_someUnnamed.store(false, std::memory_order_relaxed);
+    m_someMayNeedPush.store(false, std::memory_order_relaxed);
+    // In fixed runs, each run's counts kept for the slots' places (placeSlots).
+    m_runs.assign(kPlaceRuns, RunCounts{});
+    parallelFor(kPlaceRuns, [&](size_t r) {
+        for (size_t m = runBegin(numManifolds, r); m < runBegin(numManifolds, r + 1); ++m) {
+            if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
+            if (m + kPrefetchAhead < numManifolds) {
+                prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
+                prefetchObjectsForCount(m_manifolds[m + kPrefetchAhead]);
+            }
+            countPoints(m);
+            m_runs[r].add(m_slots[m]);
         }
-        countPoints(m);
-    }, kManifoldWeight);
+    }, kManifoldWeight * (numManifolds / kPlaceRuns + 1));
     // What is new (a kinematic body, say) is named in manifold order: the order one serial pass
     // would give.
-    bool named = false;
-    for (size_t m = 0; m < numManifolds; ++m) {
-        ManifoldSlot& slot = m_slots[m];
-        if (slot.bodyA >= 0 && slot.bodyB >= 0) continue;
-        if (slot.bodyA < 0) slot.bodyA = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody0()));
-        if (slot.bodyB < 0) slot.bodyB = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody1()));
-        named = true;
-    }
-    fillNewBodies();
-    if (named)  // the slots that named a body can tell now
-        parallelFor(numManifolds, [&](size_t m) { m_slots[m].solved = canMove(m_slots[m]); });
-
-    const int frictionRows = p.frictionRowsPerPoint();
-    int numPoints = 0, numRolling = 0, numConstraints = 0;
-    m_bullet.mayHaveAnisotropic = false;
-    for (ManifoldSlot& slot : m_slots) {
-        if (!slot.solved || slot.numPoints == 0) continue;
-        if (slot.anisotropic) {
-            p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
-            m_bullet.mayHaveAnisotropic = true;
+    if (m_someUnnamed.load(std::memory_order_relaxed)) {
+        for (size_t m = 0; m < numManifolds; ++m) {
+            ManifoldSlot& slot = m_slots[m];
+            if (slot.bodyA < 0) slot.bodyA = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody0()));
+            if (slot.bodyB < 0) slot.bodyB = namedBodyOf(const_cast<btCollisionObject*>(m_manifolds[m]->getBody1()));
         }
-        slot.constraint = numConstraints++;
-        slot.firstPoint = numPoints;
-        slot.firstRolling = numRolling;
-        numPoints += slot.numPoints;
-        numRolling += 3 * slot.numRolling;
+        fillNewBodies();
+        // The slots that named a body can tell now.
+        parallelFor(kPlaceRuns, [&](size_t r) {
+            m_runs[r] = RunCounts{};
+            for (size_t m = runBegin(numManifolds, r); m < runBegin(numManifolds, r + 1); ++m) {
+                m_slots[m].solved = canMove(m_slots[m]);
+                m_runs[r].add(m_slots[m]);
+            }
+        });
     }
-    p.regions = btoclRowRegionsOf(numPoints, numPoints * frictionRows, numRolling, 0);
+    placeSlots();
+    const int numPoints = btoclRegionRows(&p.regions, BTOCL_ROWS_NORMAL);
+    const int numConstraints = m_numConstraints;
     resizeForOverwrite(p.points, size_t(numPoints));
     resizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
     resizeForOverwrite(p.constraints, size_t(numConstraints));
@@ -400,7 +410,49 @@ void StepGatherer::packManifolds() {
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
     }, kManifoldWeight);
-    for (const ManifoldSlot& slot : m_slots) p.mayNeedPush = p.mayNeedPush || slot.mayNeedPush;
+    p.mayNeedPush = p.mayNeedPush || m_someMayNeedPush.load(std::memory_order_relaxed);
+}
+
+void StepGatherer::RunCounts::add(const ManifoldSlot& slot) {
+    if (!slot.solved || slot.numPoints == 0) return;
+    ++constraints;
+    points += slot.numPoints;
+    rolling += 3 * slot.numRolling;
+    anisotropic = anisotropic || slot.anisotropic;
+}
+
+// Each manifold with points in reach and a body that can move gets its constraint and its places
+// among the points and rolling rows, in manifold order: a running count over the runs' counts,
+// then each run's slots placed from where it starts, on the host's threads (one serial pass over
+// a dense block's slots took a millisecond). Sets the step's row regions.
+void StepGatherer::placeSlots() {
+    StepProblem& p = m_problem;
+    RunCounts total;
+    for (RunCounts& run : m_runs) {  // each run's counts become where it starts
+        const RunCounts start = total;
+        total.constraints += run.constraints;
+        total.points += run.points;
+        total.rolling += run.rolling;
+        total.anisotropic = total.anisotropic || run.anisotropic;
+        run = start;
+    }
+    const size_t n = m_slots.size();
+    parallelFor(kPlaceRuns, [&](size_t r) {
+        RunCounts at = m_runs[r];
+        for (size_t m = runBegin(n, r); m < runBegin(n, r + 1); ++m) {
+            ManifoldSlot& slot = m_slots[m];
+            if (!slot.solved || slot.numPoints == 0) continue;
+            slot.constraint = at.constraints++;
+            slot.firstPoint = at.points;
+            slot.firstRolling = at.rolling;
+            at.points += slot.numPoints;
+            at.rolling += 3 * slot.numRolling;
+        }
+    }, n / kPlaceRuns + 1);
+    m_bullet.mayHaveAnisotropic = total.anisotropic;
+    if (total.anisotropic) p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
+    m_numConstraints = total.constraints;
+    p.regions = btoclRowRegionsOf(total.points, total.points * p.frictionRowsPerPoint(), total.rolling, 0);
 }
 
 StepProblem& StepGatherer::finish() {

@@ -10,6 +10,7 @@
 
 #include <BulletDynamics/ConstraintSolver/btContactSolverInfo.h>
 
+#include <atomic>
 #include <vector>
 
 class btCollisionObject;
@@ -58,7 +59,6 @@ private:
         int numPoints = 0, numRolling = 0;  // points in reach; those with rolling friction
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstRolling = 0;
-        bool mayNeedPush = false;
         bool solved = false;  // a body can move (known once both bodies have records)
     };
     int namedBodyOf(btCollisionObject* object);
@@ -70,6 +70,13 @@ private:
     bool canMove(const ManifoldSlot& slot) const;
     void countPoints(size_t manifold);
     void packManifold(size_t manifold);
+    // What a run of slots takes (placeSlots): constraints, points, rolling rows.
+    struct RunCounts {
+        int constraints = 0, points = 0, rolling = 0;
+        bool anisotropic = false;
+        void add(const ManifoldSlot& slot);
+    };
+    void placeSlots();
     void addJointRows();
 
     btContactSolverInfo m_info;
@@ -82,6 +89,11 @@ private:
     // Per solver body, what the manifolds' passes ask of it (kBodyMoves, kBodyDynamic): a byte
     // that stays in the caches, where its record spans three lines.
     std::vector<unsigned char> m_bodyTraits;
+    // Set by the manifolds' parallel passes where any manifold has them: a body still to be
+    // named, a point that may need a push.
+    std::atomic<bool> m_someUnnamed{false}, m_someMayNeedPush{false};
+    int m_numConstraints = 0;      // the manifolds' constraints (placeSlots)
+    std::vector<RunCounts> m_runs;  // per fixed run of slots (placeSlots)
 };
 
 // The global split's geometry, which only a step that is split reads (a step solved whole or on
