@@ -414,7 +414,7 @@ void StepGatherer::packManifolds() {
 }
 
 void StepGatherer::RunCounts::add(const ManifoldSlot& slot) {
-    if (!slot.solved || slot.numPoints == 0) return;
+    if (!slot.makesConstraint()) return;
     ++constraints;
     points += slot.numPoints;
     rolling += 3 * slot.numRolling;
@@ -441,7 +441,7 @@ void StepGatherer::placeSlots() {
         RunCounts at = m_runs[r];
         for (size_t m = runBegin(n, r); m < runBegin(n, r + 1); ++m) {
             ManifoldSlot& slot = m_slots[m];
-            if (!slot.solved || slot.numPoints == 0) continue;
+            if (!slot.makesConstraint()) continue;
             slot.constraint = at.constraints++;
             slot.firstPoint = at.points;
             slot.firstRolling = at.rolling;

@@ -60,6 +60,7 @@ private:
         int constraint = -1;                // its constraint, or -1 with no point in reach
         int firstPoint = 0, firstRolling = 0;
         bool solved = false;  // a body can move (known once both bodies have records)
+        bool makesConstraint() const { return solved && numPoints > 0; }
     };
     int namedBodyOf(btCollisionObject* object);
     int knownBodyOf(const btCollisionObject* object) const;
