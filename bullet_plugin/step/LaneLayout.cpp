@@ -77,29 +77,6 @@ struct BundlePlan {
     int firstSlot = 0, firstNormalBlock = 0;
 };
 
-// A constraint of a bundle as the schedule sees it: the constraints after it in its group that
-// wait on it (the next on each of its dynamic bodies), how many before it it waits on, its points.
-struct Waits {
-    int next[2];
-    int waitsOn, points;
-};
-
-// A thread's arrays for scheduleBundle, kept from bundle to bundle.
-struct ScheduleScratch {
-    // Per body: the last bundle that met it (its number on this thread) and its last constraint
-    // there, so that no pass clears it between bundles.
-    std::vector<std::pair<unsigned, int>> lastOn;
-    unsigned bundle = 0;
-    std::vector<Waits> waits;
-    std::vector<int> place;  // per bundle constraint: its place in the solve order
-    // Ready constraints by their points: a bit each by its place in the split's order, the first
-    // word that may hold one, how many there are.
-    std::vector<std::vector<std::uint64_t>> readyBits;
-    std::vector<std::size_t> firstWord;
-    std::vector<int> readyOf;
-    std::vector<int> taken, freed;
-};
-
 // A bundle's slots from its constraints. A constraint waits on those before it in its group that
 // share a dynamic body with it (the one-lane walk's order on each body, so the same bits); others
 // may pass it. A slot's blocks are its lanes' most points, so each slot takes constraints of
@@ -107,7 +84,7 @@ struct ScheduleScratch {
 // (a slot's bodies cost about kSlotBlocks blocks more), the first ready in the split's order first
 // (their bodies and points lie near in the caches).
 void scheduleBundle(const GroupSpan* first, const GroupSpan* end, int lanes, const std::vector<LaneRecord>& records,
-                    ScheduleScratch& s, BundlePlan& plan) {
+                    LaneSchedule& s, BundlePlan& plan) {
     constexpr double kSlotBlocks = 1.0;
     // The bundle's constraints in the split's order, and their waits on each body.
     s.place.clear();
@@ -115,11 +92,12 @@ void scheduleBundle(const GroupSpan* first, const GroupSpan* end, int lanes, con
         for (int k = g->offset; k < g->offset + g->count; ++k) s.place.push_back(k);
     const int n = int(s.place.size());
     s.waits.resize(std::size_t(n));
-    if (++s.bundle == 0) {  // the numbers wrapped: the marks of old bundles cleared
+    using Waits = LaneSchedule::Waits;
+    if (++s.number == 0) {  // the numbers wrapped: the marks of old schedules cleared
         std::fill(s.lastOn.begin(), s.lastOn.end(), std::pair<unsigned, int>{0u, -1});
-        s.bundle = 1;
+        s.number = 1;
     }
-    const unsigned bundle = s.bundle;
+    const unsigned bundle = s.number;
     int mostPoints = 0;
     for (int j = 0; j < n; ++j) {
         const LaneRecord& r = records[std::size_t(s.place[std::size_t(j)])];
@@ -353,10 +331,10 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
 
     // Every bundle scheduled apart (its groups are its own), then placed after the ones before.
     const std::size_t bundleWeight = kManifoldWeight * (records.size() / std::max<std::size_t>(1, plans.size()) + 1);
+    if (out.schedules.size() < plans.size()) out.schedules.resize(plans.size());
     parallelFor(plans.size(), [&](std::size_t b) {
-        thread_local ScheduleScratch scratch;
-        scheduleBundle(spans.data() + plans[b].firstGroup, spans.data() + plans[b].endGroup, lanes, records, scratch,
-                       plans[b]);
+        scheduleBundle(spans.data() + plans[b].firstGroup, spans.data() + plans[b].endGroup, lanes, records,
+                       out.schedules[b], plans[b]);
     }, bundleWeight);
     int numSlots = 0, normalTotal = 0;
     out.bundles.resize(plans.size());

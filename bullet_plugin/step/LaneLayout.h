@@ -14,10 +14,36 @@
 #include "btocl_shared.h"
 
 #include <array>
+#include <cstddef>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace btocl {
+
+// A bundle's schedule's working arrays (layOutLanes), kept from step to step in its layout.
+struct LaneSchedule {
+    // A constraint of the bundle as the schedule sees it: the constraints after it in its group
+    // that wait on it (the next on each of its dynamic bodies), how many before it it waits on,
+    // its points.
+    struct Waits {
+        int next[2];
+        int waitsOn, points;
+    };
+    // Per body: the last schedule that met it (its number) and its last constraint there, so that
+    // no pass clears it between steps.
+    std::vector<std::pair<unsigned, int>> lastOn;
+    unsigned number = 0;
+    std::vector<Waits> waits;
+    std::vector<int> place;  // per bundle constraint: its place in the solve order
+    // Ready constraints by their points: a bit each by its place in the split's order, the first
+    // word that may hold one, how many there are.
+    std::vector<std::vector<std::uint64_t>> readyBits;
+    std::vector<std::size_t> firstWord;
+    std::vector<int> readyOf;
+    std::vector<int> taken, freed;
+};
 
 struct LaneLayout {
     int lanes = 0;                    // W
@@ -31,6 +57,7 @@ struct LaneLayout {
     int numBlocks = 0;                // blocks of W rows, normal ones first
     long long usedLanes = 0;          // slots' lanes that hold a constraint
     long long usedRowPlaces = 0;      // rows placed, of numBlocks * W places
+    std::vector<LaneSchedule> schedules;  // per bundle: its schedule's arrays
 
     double laneFill() const { return slots.empty() ? 0 : double(usedLanes) / (double(slots.size()) * lanes); }
     double rowFill() const { return numBlocks == 0 ? 0 : double(usedRowPlaces) / (double(numBlocks) * lanes); }
