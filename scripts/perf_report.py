@@ -299,12 +299,14 @@ def startup_table(run_list):
 LANE_ROW_FLOATS = 19
 
 
-def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20")):
+def limit_table(speed_runs, hardware_runs, growth_runs=(), scenes=("block-12000", "pyramid3d-20"),
+                growth_scenes=("block-48000-ocl",)):
     """How far the split scenes' solve phase is from what the cores can do: row updates per second
     per core, the bytes a row update moves, and the rows' stream against the measured bandwidth.
     Scenes at rest only: their last step's counts stand for every step's, whose median solve
     time is read. In lanes (simdLanes > 1) a row lies in a block of W rows, empty places too:
-    a row update moves its lane row and impulse over the layout's row fill."""
+    a row update moves its lane row and impulse over the layout's row fill. The growth run's
+    largest block (ours alone in its process) shows the rows far past the last-level cache."""
     hw = load(os.path.join(hardware_runs[-1][0], "bandwidth.json"))
     size = hw["bytes"]
     cores = hw["cores"]
@@ -319,9 +321,10 @@ def limit_table(speed_runs, hardware_runs, scenes=("block-12000", "pyramid3d-20"
              "| row updates per s per core | bytes a row update moves | rows' MiB (records and impulses) "
              "| bodies' and constraints' MiB | rows' stream GB/s | of the %d cores' read bandwidth |" % cores,
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    folder, _ = speed_runs[-1]
-    for name in scenes:
-        path = os.path.join(folder, name + ".json")
+    paths = [os.path.join(speed_runs[-1][0], name + ".json") for name in scenes]
+    if growth_runs:
+        paths += [os.path.join(growth_runs[-1][0], name + ".json") for name in growth_scenes]
+    for path in paths:
         if not os.path.exists(path):
             continue
         d = load(path)
@@ -415,9 +418,11 @@ def docs():
             "", "(%s, `docs/bench/%s/`)" % (info[machine].get("short", machine), machine)])
     machine, hardware = first("hardware")
     speed = runs(machine, "speed") if machine else []
+    growth = runs(machine, "growth") if machine else []
     if hardware and speed:
-        replace_block(perf, "limit", ["Runs: %s; %s, machine `%s`." % (
-            run_sources(speed[-1:]), run_sources(hardware[-1:]), machine), ""] + limit_table(speed, hardware))
+        replace_block(perf, "limit", ["Runs: %s; %s; growth %s, machine `%s`." % (
+            run_sources(speed[-1:]), run_sources(hardware[-1:]), run_sources(growth[-1:]), machine), ""] +
+            limit_table(speed, hardware, growth))
     machine, quality = first("quality")
     if quality:
         replace_block(os.path.join(ROOT, "docs", "quality.md"), "quality",
