@@ -205,3 +205,35 @@ TEST_CASE("a large world's contacts are set up on the host and on the device as 
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
     requireRowsAsSI(w, info);
 }
+
+TEST_CASE("the gather counts a manifold's points unread, read, or again, and places the rows as SI does",
+          "[setup]") {
+    // Objects' processing threshold left as Bullet sets it: the count takes every point as in
+    // reach without reading it (StepGatherer::countsUnread).
+    World w(SolverKind::Reference);
+    groundAndPile(w, 48);
+    for (int i = 0; i < 30; ++i) w.step();
+    const btContactSolverInfo info = w.stepInfo();
+    std::vector<btPersistentManifold*> withPoints;
+    for (btPersistentManifold* m : w.manifolds())
+        if (m->getNumContacts() >= 2) withPoints.push_back(m);
+    REQUIRE(withPoints.size() >= 4);
+    SECTION("every point in reach") { requireRowsAsSI(w, info); }
+    SECTION("a point beyond Bullet's largest threshold, which SI leaves out: counted again") {
+        REQUIRE(withPoints[0]->getContactProcessingThreshold() >= BT_LARGE_FLOAT);
+        withPoints[0]->getContactPoint(1).m_distance1 = 10 * BT_LARGE_FLOAT;
+        requireRowsAsSI(w, info);
+    }
+    SECTION("thresholds of their own, some points beyond them: counted as read") {
+        for (size_t k = 0; k < withPoints.size(); k += 2) {
+            btPersistentManifold* m = withPoints[k];
+            btScalar lo = m->getContactPoint(0).getDistance(), hi = lo;
+            for (int j = 1; j < m->getNumContacts(); ++j) {
+                lo = std::min(lo, m->getContactPoint(j).getDistance());
+                hi = std::max(hi, m->getContactPoint(j).getDistance());
+            }
+            m->setContactProcessingThreshold((lo + hi) / 2);
+        }
+        requireRowsAsSI(w, info);
+    }
+}

@@ -267,9 +267,17 @@ bool StepGatherer::canMove(const ManifoldSlot& slot) const {
     return ((m_bodyTraits[size_t(slot.bodyA)] | m_bodyTraits[size_t(slot.bodyB)]) & kBodyMoves) != 0;
 }
 
+// Whether the count takes a manifold's points as all in reach and without rolling friction,
+// reading none of them: where its processing threshold is Bullet's "none" (BT_LARGE_FLOAT, every
+// object's unless set), no finite distance but an absurd one is out of reach. The pack, which
+// reads every point, finds where that was wrong, and the step is counted again (packManifolds).
+bool StepGatherer::countsUnread(const btPersistentManifold& manifold) const {
+    return !m_countEveryPoint && manifold.getContactProcessingThreshold() >= BT_LARGE_FLOAT;
+}
+
 // Looks up a manifold's bodies and counts its points in reach, reading only what the count
-// needs (the points' distances and rolling friction, one cache line of each point's four): the
-// points are checked as they are packed.
+// needs (the points' distances and rolling friction, one cache line of each point's four; none
+// where countsUnread): the points are checked as they are packed.
 void StepGatherer::countPoints(size_t m) {
     ManifoldSlot& slot = m_slots[m];
     slot = ManifoldSlot{};  // every slot is written here, in parallel: no serial clearing pass
@@ -282,6 +290,10 @@ void StepGatherer::countPoints(size_t m) {
     if (slot.numContacts == 0) return;  // most of a heap's manifolds: nothing more to read
     slot.anisotropic = hasAnisotropicFriction(manifold.getBody0()) || hasAnisotropicFriction(manifold.getBody1());
     if (slot.bodyA >= 0 && slot.bodyB >= 0) slot.solved = canMove(slot);
+    if (countsUnread(manifold)) {
+        slot.numPoints = slot.numContacts;
+        return;
+    }
     const btScalar threshold = manifold.getContactProcessingThreshold();
     for (int j = 0; j < manifold.getNumContacts(); ++j) {
         const btManifoldPoint& cp = manifold.getContactPoint(j);
@@ -316,10 +328,16 @@ void StepGatherer::packManifold(size_t m) {
     c.numRows[BTOCL_ROWS_ROLLING] = slot.numRolling * 3;
 
     int point = slot.firstPoint, rolling = c.firstRow[BTOCL_ROWS_ROLLING];
+    const bool unread = countsUnread(*manifold);
     btVector3 pointSum(0, 0, 0);
     for (int j = 0; j < manifold->getNumContacts(); ++j) {
         btManifoldPoint& cp = manifold->getContactPoint(j);
-        if (cp.getDistance() > manifold->getContactProcessingThreshold()) continue;
+        const bool outOfReach = cp.getDistance() > manifold->getContactProcessingThreshold();
+        if (unread && (outOfReach || cp.m_combinedRollingFriction > 0)) {  // counted wrong: packed again
+            setOnce(m_countWrong);
+            return;
+        }
+        if (outOfReach) continue;
         if (btoclPointMayNeedPush(cp.getDistance(), &p.setupParams)) setOnce(m_someMayNeedPush);
         pointSum += (cp.getPositionWorldOnA() + cp.getPositionWorldOnB()) * btScalar(0.5);
         btoclContactPoint pt{};
@@ -352,7 +370,7 @@ void StepGatherer::packManifold(size_t m) {
 }
 
 // Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
-// whether one can move, and its points counted, in parallel; then, on this thread, the bodies
+// whether one can move, and its points counted (unread where countsUnread), in parallel; then, on this thread, the bodies
 // first met here named, if any (in SI's order: manifold order), and places given by a running
 // count over the slots (placeSlots); then each manifold checked and packed at its places, in
 // parallel. Each pass reads what it needs of a manifold once (docs/performance.md, "The gather").
@@ -365,14 +383,16 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(m_slots, numManifolds);
     m_someUnnamed.store(false, std::memory_order_relaxed);
     m_someMayNeedPush.store(false, std::memory_order_relaxed);
+    m_countWrong.store(false, std::memory_order_relaxed);
     // In fixed runs, each run's counts kept for the slots' places (placeSlots).
     m_runs.assign(kPlaceRuns, RunCounts{});
     parallelFor(kPlaceRuns, [&](size_t r) {
         for (size_t m = runBegin(numManifolds, r); m < runBegin(numManifolds, r + 1); ++m) {
             if (m + 2 * kPrefetchAhead < numManifolds) prefetchTail(m_manifolds[m + 2 * kPrefetchAhead]);
             if (m + kPrefetchAhead < numManifolds) {
-                prefetchPointsForCount(m_manifolds[m + kPrefetchAhead]);
-                prefetchObjectsForCount(m_manifolds[m + kPrefetchAhead]);
+                const btPersistentManifold* ahead = m_manifolds[m + kPrefetchAhead];
+                if (!countsUnread(*ahead)) prefetchPointsForCount(ahead);
+                prefetchObjectsForCount(ahead);
             }
             countPoints(m);
             m_runs[r].add(m_slots[m]);
@@ -410,6 +430,12 @@ void StepGatherer::packManifolds() {
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
     }, kManifoldWeight);
+    if (m_countWrong.load(std::memory_order_relaxed)) {
+        // A point out of reach (an absurd distance), or rolling friction, which a scene that has
+        // it keeps having: this step and the later ones read every point in the count.
+        m_countEveryPoint = true;
+        return packManifolds();
+    }
     p.mayNeedPush = p.mayNeedPush || m_someMayNeedPush.load(std::memory_order_relaxed);
 }
 

@@ -69,6 +69,7 @@ private:
     void fillSolverBody(int index);
     void packManifolds();
     bool canMove(const ManifoldSlot& slot) const;
+    bool countsUnread(const btPersistentManifold& manifold) const;
     void countPoints(size_t manifold);
     void packManifold(size_t manifold);
     // What a run of slots takes (placeSlots): constraints, points, rolling rows.
@@ -93,6 +94,10 @@ private:
     // Set by the manifolds' parallel passes where any manifold has them: a body still to be
     // named, a point that may need a push.
     std::atomic<bool> m_someUnnamed{false}, m_someMayNeedPush{false};
+    // Set by the pack where a manifold counted unread (countsUnread) held a point out of reach or
+    // with rolling friction; from then on the count reads every point (m_countEveryPoint).
+    std::atomic<bool> m_countWrong{false};
+    bool m_countEveryPoint = false;
     int m_numConstraints = 0;      // the manifolds' constraints (placeSlots)
     std::vector<RunCounts> m_runs;  // per fixed run of slots (placeSlots)
 };
