@@ -278,10 +278,8 @@ typedef struct {
     btoclFloat4 contactCfmErp;   // the four lanes named below
     int bodyA, bodyB;
     int flags;                   // btManifoldPoint::m_contactPointFlags
-    int firstFrictionRow;        // friction rows: 1 or 2 from here
     int firstRollingRow;         // -1, or 3 rolling/spinning rows from here
-    int pad0, pad1, pad2;
-} btoclContactPoint;
+} btoclContactPoint;  // two cache lines: its friction rows are found by its index (btoclFirstFrictionRow)
 #define BTOCL_POINT_DISTANCE(p) ((p).positionOnA.w)
 #define BTOCL_POINT_FRICTION(p) ((p).positionOnB.w)
 #define BTOCL_POINT_RESTITUTION(p) ((p).normalOnB.w)
@@ -304,6 +302,12 @@ typedef struct {
     int usePush, solverMode;
     int numPoints, pad0, pad1, pad2;
 } btoclSetupParams;
+
+// A point's first friction row (1 or 2 rows): every point's friction rows follow the normal rows,
+// in point order (StepProblem::firstFrictionRowOf).
+BTOCL_INLINE int btoclFirstFrictionRow(const btoclSetupParams* prm, int point) {
+    return prm->numPoints + point * ((prm->solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1);
+}
 
 // The unit of batching: the rows of one body pair (a contact manifold or a joint).
 // Its rows of each kind k are contiguous: rows [firstRow[k], firstRow[k] + numRows[k]).
@@ -377,7 +381,7 @@ static_assert(sizeof(btoclSolveRow) == 5 * 16, "btoclSolveRow layout");
 static_assert(sizeof(btoclConstraint) == 16 + 12 * 4, "btoclConstraint layout");
 static_assert(sizeof(btoclGroup) == 16, "btoclGroup layout");
 static_assert(sizeof(btoclLaneSlot) == 16, "btoclLaneSlot layout");
-static_assert(sizeof(btoclContactPoint) == 9 * 16, "btoclContactPoint layout");
+static_assert(sizeof(btoclContactPoint) == 8 * 16, "btoclContactPoint layout");
 static_assert(sizeof(btoclSetupParams) == 4 * 16, "btoclSetupParams layout");
 static_assert(sizeof(btoclRowRegions) == 2 * 16, "btoclRowRegions layout");
 #endif

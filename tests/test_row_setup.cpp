@@ -74,7 +74,7 @@ void requireAsSI(const char* path, const StepProblem& p, const BulletStep& from,
     check(bullet.frictionRows(), p.numContactPoints(), true);
     check(bullet.rollingRows(), p.rowStart(BTOCL_ROWS_ROLLING), true);
     for (int i = 0; i < p.numContactPoints(); ++i)
-        if (p.points[size_t(i)].firstFrictionRow - p.numContactPoints() != bullet.normalRows()[i].m_frictionIndex)
+        if (btoclFirstFrictionRow(&p.setupParams, i) - p.numContactPoints() != bullet.normalRows()[i].m_frictionIndex)
             sameBodies = false;
     CHECK(sameBodies);
     INFO("worst relative row difference " << worst << " at row " << worstRow << " of " << p.numRows());

@@ -357,7 +357,6 @@ void StepGatherer::packManifold(size_t m) {
         pt.bodyA = idA;
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
-        pt.firstFrictionRow = p.firstFrictionRowOf(point);
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
         p.points[size_t(point)] = pt;
         m_bullet.manifoldPoints[size_t(point)] = &cp;

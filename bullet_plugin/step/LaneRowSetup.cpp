@@ -330,7 +330,7 @@ BTOCL_LANES_TARGET bool pointRowsInLanes(StepProblem& p, size_t first, size_t co
     storeRecords(rows.normal, records, n);
     for (int k = 0; k < frictionRows; ++k) {
         for (int i = 0; i < n; ++i) {
-            const int index = pt[i]->firstFrictionRow + k;
+            const int index = btoclFirstFrictionRow(&prm, int(first) + i) + k;
             records[i] = to.rows + index;
             to.normalOfRow[index] = int(first) + i;
             to.applied[index] = 0.0f;
