@@ -369,10 +369,10 @@ void StepGatherer::packManifold(size_t m) {
 }
 
 // Two passes over the manifolds, which lie scattered in memory: each manifold's bodies looked up,
-// whether one can move, and its points counted (unread where countsUnread), in parallel; then, on this thread, the bodies
-// first met here named, if any (in SI's order: manifold order), and places given by a running
-// count over the slots (placeSlots); then each manifold checked and packed at its places, in
-// parallel. Each pass reads what it needs of a manifold once (docs/performance.md, "The gather").
+// whether one can move, and its points counted (unread where countsUnread), in parallel; then,
+// on this thread, the bodies first met here named, if any (in SI's order: manifold order), and
+// places given by a running count over the slots (placeSlots); then each manifold checked and
+// packed at its places, in parallel. Each pass reads what it needs of a manifold once (docs/performance.md, "The gather").
 void StepGatherer::packManifolds() {
     StepProblem& p = m_problem;
     const size_t numManifolds = m_manifolds.size();

@@ -84,10 +84,10 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into, 
         }
         p.lateralDirs[2 * size_t(i)] = ff.dir1;
         p.lateralDirs[2 * size_t(i) + 1] = ff.dir2;
-        put(btoclFirstFrictionRow(&prm, i), btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, i),
-            BTOCL_ROWS_FRICTION);
+        const int friction = btoclFirstFrictionRow(&prm, i);
+        put(friction, btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, i), BTOCL_ROWS_FRICTION);
         if (two)
-            put(btoclFirstFrictionRow(&prm, i) + 1, btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, i),
+            put(friction + 1, btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, i),
                 BTOCL_ROWS_FRICTION);
     };
     auto setUpConstraint = [&](size_t ci) {
