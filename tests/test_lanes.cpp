@@ -1,7 +1,8 @@
 // A split step solved in SIMD lanes (btOpenCLSolverConfig::simdLanes; kernels/lane_solve.h,
 // step/LaneLayout.h): the constraints on each body go through the lanes in their group's order,
-// as one work-item walks the group, so a step in lanes must end to the bit where the one-lane walk ends; steps the lanes do not take walk one
-// group a work-item; the lane layout keeps its invariants, and its validator finds a broken one.
+// as one work-item walks the group, so a step in lanes must end to the bit where the one-lane
+// walk ends; steps the lanes do not take walk one group a work-item; the lane layout keeps its
+// invariants, and its validator finds a broken one.
 #include "BulletConversions.h"
 #include "GatherAndSolve.h"
 #include "HostLaneSolve.h"

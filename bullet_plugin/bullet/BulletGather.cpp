@@ -119,7 +119,7 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     p.jointIterations = 0;
     p.regions = btoclRowRegionsOf(0, 0, 0, 0);
     p.mayNeedPush = false;
-    p.setupParams = setupParamsOf(info, 0);  // the point count once they are packed
+    p.setupParams = setupParamsOf(info, 0);  // the point count once the slots are placed
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
@@ -372,7 +372,8 @@ void StepGatherer::packManifold(size_t m) {
 // whether one can move, and its points counted (unread where countsUnread), in parallel; then,
 // on this thread, the bodies first met here named, if any (in SI's order: manifold order), and
 // places given by a running count over the slots (placeSlots); then each manifold checked and
-// packed at its places, in parallel. Each pass reads what it needs of a manifold once (docs/performance.md, "The gather").
+// packed at its places, in parallel. Each pass reads what it needs of a manifold once
+// (docs/performance.md, "The gather").
 void StepGatherer::packManifolds() {
     StepProblem& p = m_problem;
     const size_t numManifolds = m_manifolds.size();
@@ -478,13 +479,13 @@ void StepGatherer::placeSlots() {
     if (total.anisotropic) p.rowsOnDevice = false;  // the host sets up the rows (HostRowSetup.h)
     m_numConstraints = total.constraints;
     p.regions = btoclRowRegionsOf(total.points, total.points * p.frictionRowsPerPoint(), total.rolling, 0);
+    p.setupParams.numPoints = total.points;  // the pack finds each point's friction rows by it
 }
 
 StepProblem& StepGatherer::finish() {
     StepProblem& p = m_problem;
     p.rowsOnDevice = m_setup == RowSetup::Device;
     packManifolds();  // a body with anisotropic friction clears rowsOnDevice
-    p.setupParams.numPoints = int(p.points.size());
     if (!p.rowsOnDevice) setupRowsOnHost(p, m_bullet);
     if (!m_joints.empty()) addJointRows();
     return p;

@@ -70,9 +70,9 @@ struct StepProblem {
     int frictionRowsPerPoint() const {
         return (setupParams.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
     }
-    // A contact point's first friction row: each point's friction rows in point order, as the
-    // gather lays them out.
-    int firstFrictionRowOf(int point) const { return rowStart(BTOCL_ROWS_FRICTION) + point * frictionRowsPerPoint(); }
+    // A contact point's first friction row: each point's friction rows in point order, after the
+    // normal rows, as the gather lays them out and the setups find them (setupParams.numPoints).
+    int firstFrictionRowOf(int point) const { return btoclFirstFrictionRow(&setupParams, point); }
     // Velocity iterations: m_numIterations, or more when a joint's override asks (SI's maxIterations).
     int maxIterations(int numIterations) const { return std::max(numIterations, jointIterations); }
 };
