@@ -41,12 +41,6 @@ struct GroupSpan {
     int offset, count;
 };
 
-// What a slot reads of a constraint, by solve order; lockA and lockB: its dynamic bodies (-1
-// where a side's body is not dynamic).
-struct LaneRecord {
-    int constraint, bodyA, bodyB, points, firstNormal, firstFriction, lockA, lockB;
-};
-
 // The constraints' records by solve order, read ahead of the slots on the host's threads: a loop
 // of independent loads waits on the scattered records far less than the slots, whose choices
 // wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
@@ -286,7 +280,7 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         throw btOpenCLSolverError("btOpenCLConstraintSolver: a lane layout needs 2 lanes or more and a serial split");
     out.lanes = lanes;
     out.frictionPerPoint = frictionPerPoint;
-    std::vector<LaneRecord> records;
+    std::vector<LaneRecord>& records = out.records;
     readLaneRecords(split, constraints, frictionPerPoint, records);
 
     // Each set's groups dealt to its bundles, serially (a sort and a heap a set).

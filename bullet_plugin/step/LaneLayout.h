@@ -45,6 +45,12 @@ struct LaneSchedule {
     std::vector<int> taken, freed;
 };
 
+// What a slot reads of a constraint, by solve order; lockA and lockB: its dynamic bodies (-1
+// where a side's body is not dynamic).
+struct LaneRecord {
+    int constraint, bodyA, bodyB, points, firstNormal, firstFriction, lockA, lockB;
+};
+
 struct LaneLayout {
     int lanes = 0;                    // W
     int frictionPerPoint = 1;
@@ -58,6 +64,7 @@ struct LaneLayout {
     long long usedLanes = 0;          // slots' lanes that hold a constraint
     long long usedRowPlaces = 0;      // rows placed, of numBlocks * W places
     std::vector<LaneSchedule> schedules;  // per bundle: its schedule's arrays
+    std::vector<LaneRecord> records;      // per place in the solve order: its constraint's (layOutLanes)
 
     double laneFill() const { return slots.empty() ? 0 : double(usedLanes) / (double(slots.size()) * lanes); }
     double rowFill() const { return numBlocks == 0 ? 0 : double(usedRowPlaces) / (double(numBlocks) * lanes); }
