@@ -8,6 +8,7 @@
 #include "row_setup.h"
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
+#include <BulletCollision/CollisionShapes/btConvexInternalShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
@@ -177,9 +178,14 @@ void StepGatherer::fillNewBodies() {
     m_bullet.boxHi.resize(end);
     p.splitBodies.resize(end);
     parallelFor(end - first, [&](size_t i) {
-        // A rigid body's record lies in a few cache lines of its own: asked for a few bodies ahead.
-        const size_t ahead = first + i + kPrefetchAhead;
+        // A rigid body's record lies in a dozen cache lines of its own, and its shape (which
+        // getAabb reads) elsewhere: the record is asked for further ahead, its shape once the
+        // record's line that holds the shape's address has come.
+        const size_t ahead = first + i + 2 * kPrefetchAhead, near = first + i + kPrefetchAhead;
         if (ahead < end) prefetchBytes(m_bullet.original[ahead], sizeof(btRigidBody));
+        if (near < end)
+            if (const btCollisionShape* shape = m_bullet.original[near]->getCollisionShape())
+                prefetchBytes(shape, sizeof(btConvexInternalShape));
         fillSolverBody(int(first + i));
     }, kRigidBodyWeight);
 }
