@@ -22,6 +22,7 @@ struct CollisionObjectMembers : btCollisionObject {
     static constexpr int btCollisionObject::*companionId = &CollisionObjectMembers::m_companionId;
     static constexpr int btCollisionObject::*anisotropy = &CollisionObjectMembers::m_hasAnisotropicFriction;
     static constexpr int btCollisionObject::*updateRevision = &CollisionObjectMembers::m_updateRevision;
+    static constexpr int btCollisionObject::*internalType = &CollisionObjectMembers::m_internalType;
 };
 
 // A rigid body as SI's solver body holds it (initSolverBody): inverse mass and linear factor,

@@ -35,6 +35,8 @@ static_assert(BTOCL_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED == BT_CONTACT_FLAG
 namespace {
 
 constexpr size_t kPrefetchAhead = 4;
+// How far ahead the serial naming of the bodies asks for their lines (addBodies).
+constexpr int kNameAhead = 8;
 
 // A solver body's traits (StepGatherer::m_bodyTraits): its inverse mass is not (nearly) zero, as
 // SI tests it; it is one of the step's dynamic bodies (BTOCL_BODY_IS_DYNAMIC).
@@ -225,7 +227,20 @@ int StepGatherer::knownBodyOf(const btCollisionObject* object) const {
 // finished, all islands' bodies in one loop (a scene of many small islands makes a call each,
 // every one too small for a parallel loop).
 void StepGatherer::addBodies(btCollisionObject* const* bodies, int numBodies) {
-    for (int i = 0; i < numBodies; ++i) namedBodyOf(bodies[i]);
+    for (int i = 0; i < numBodies; ++i) {
+        // The lines that naming reads of a body, which lie scattered, asked for ahead: its
+        // companion id and type, then, once its type has come, a rigid body's inverse mass (the
+        // line of its linear factor, whose address a getter gives).
+        if (i + 2 * kNameAhead < numBodies) {
+            const btCollisionObject* o = bodies[i + 2 * kNameAhead];
+            __builtin_prefetch(&(o->*CollisionObjectMembers::companionId), 1);
+            __builtin_prefetch(&(o->*CollisionObjectMembers::internalType));
+        }
+        if (i + kNameAhead < numBodies)
+            if (const btRigidBody* rb = btRigidBody::upcast(bodies[i + kNameAhead]))
+                __builtin_prefetch(&rb->getLinearFactor());
+        namedBodyOf(bodies[i]);
+    }
 }
 
 void StepGatherer::addManifolds(btPersistentManifold* const* manifolds, int numManifolds) {
