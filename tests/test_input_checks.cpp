@@ -1,7 +1,8 @@
 // What solveGroup refuses before anything is enqueued or written, and how it names it: a
 // non-finite field of a body (by its world index), of a contact point (by the world indices of
-// its manifold's objects) or of the solver settings (by field name), negative counts. Each
-// refused step leaves the world byte-for-byte as it was; the solver then steps on.
+// its manifold's objects) or of the solver settings (by field name), negative counts, null arrays
+// and null elements. Each refused step leaves the world byte-for-byte as it was; the solver then
+// steps on.
 #include "ScopedEnv.h"
 #include "SettledPile.h"
 #include "WorldSnapshot.h"
@@ -308,7 +309,8 @@ TEST_CASE("a non-finite or out-of-range solver setting is refused, naming the fi
     CHECK(our.solver.getLastStats().numContactPoints > 0);
 }
 
-TEST_CASE("negative counts and null arrays given to solveGroup are a btOpenCLSolverError", "[errors][input]") {
+TEST_CASE("negative counts, null arrays and null elements given to solveGroup are a btOpenCLSolverError",
+          "[errors][input]") {
     OurPile our;
     SettledPile& p = our.pile;
     const btContactSolverInfo info = p.w.stepInfo();
@@ -325,6 +327,20 @@ TEST_CASE("negative counts and null arrays given to solveGroup are a btOpenCLSol
     CHECK_THROWS_WITH(solveGroup(nullptr, nb, manifolds, nm, 0), Catch::Contains("numBodies"));
     CHECK_THROWS_WITH(solveGroup(bodies, nb, nullptr, nm, 0), Catch::Contains("numManifolds"));
     CHECK_THROWS_AS(solveGroup(bodies, nb, manifolds, nm, 1), btOpenCLSolverError);  // a null constraint array
+    // A null element: the gather would read through it.
+    const WorldSnapshot before = WorldSnapshot::of(p.w.dyn());
+    std::vector<btCollisionObject*> someBodies(bodies, bodies + nb);
+    someBodies[1] = nullptr;
+    CHECK_THROWS_WITH(solveGroup(someBodies.data(), nb, manifolds, nm, 0), Catch::Contains("bodies[1] is null"));
+    std::vector<btPersistentManifold*> someManifolds(manifolds, manifolds + nm);
+    someManifolds[nm - 1] = nullptr;
+    CHECK_THROWS_WITH(solveGroup(bodies, nb, someManifolds.data(), nm, 0),
+                      Catch::Contains("manifolds[" + std::to_string(nm - 1) + "] is null"));
+    btTypedConstraint* noJoint = nullptr;
+    our.solver.prepareSolve(nb, nm);
+    CHECK_THROWS_WITH(our.solver.solveGroup(bodies, nb, manifolds, nm, &noJoint, 1, info, nullptr, &p.w.dispatcher()),
+                      Catch::Contains("constraints[0] is null"));
+    CHECK(before.differenceFrom(WorldSnapshot::of(p.w.dyn())) == "");
     solveGroup(bodies, nb, manifolds, nm, 0);  // outside prepareSolve/allSolved: solved at once
     CHECK(our.solver.getLastStats().numContactPoints > 0);
 }

@@ -121,18 +121,23 @@ void checkAnisotropy(const btCollisionObject* o) {
         fail("non-finite input: the object at index " + worldIndexOf(o) + " of the world has a non-finite " + field);
 }
 
-void checkCount(const char* name, int count, const void* array) {
+template <class T>
+void checkArray(const char* name, const char* elements, int count, T* const* array) {
     if (count < 0) fail(std::string("solveGroup: ") + name + " is " + std::to_string(count) + ", a negative count");
     if (count > 0 && !array) fail(std::string("solveGroup: ") + name + " is " + std::to_string(count) + " but its array is null");
+    for (int i = 0; i < count; ++i)
+        if (!array[i])
+            fail(std::string("solveGroup: ") + elements + "[" + std::to_string(i) + "] is null; each of the " +
+                 std::to_string(count) + " must point to an object");
 }
 
 }  // namespace
 
 void checkSolveGroupArguments(btCollisionObject* const* bodies, int numBodies, btPersistentManifold* const* manifolds,
                               int numManifolds, btTypedConstraint* const* constraints, int numConstraints) {
-    checkCount("numBodies", numBodies, bodies);
-    checkCount("numManifolds", numManifolds, manifolds);
-    checkCount("numConstraints", numConstraints, constraints);
+    checkArray("numBodies", "bodies", numBodies, bodies);
+    checkArray("numManifolds", "manifolds", numManifolds, manifolds);
+    checkArray("numConstraints", "constraints", numConstraints, constraints);
 }
 
 void checkSolverInfo(const btContactSolverInfo& info) {

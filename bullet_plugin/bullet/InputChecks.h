@@ -23,7 +23,7 @@ public:
     using btOpenCLSolverError::btOpenCLSolverError;
 };
 
-// No count negative, no array null while its count is positive.
+// No count negative, no array null while its count is positive, no element of an array null.
 void checkSolveGroupArguments(btCollisionObject* const* bodies, int numBodies, btPersistentManifold* const* manifolds,
                               int numManifolds, btTypedConstraint* const* constraints, int numConstraints);
 
