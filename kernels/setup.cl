@@ -59,11 +59,12 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
     lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
     lateralDirs[2 * i + 1] = ff.dir2;
-    storeRow(rows, normalOfRow, applied, pushApplied, rowMap[btoclFirstFrictionRow(&prm, i)],
+    const int friction = btoclFirstFrictionRow(&prm, i);
+    storeRow(rows, normalOfRow, applied, pushApplied, rowMap[friction],
              btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
              normalRow);
     if (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS)
-        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[btoclFirstFrictionRow(&prm, i) + 1],
+        storeRow(rows, normalOfRow, applied, pushApplied, rowMap[friction + 1],
                  btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
                  normalRow);
 }

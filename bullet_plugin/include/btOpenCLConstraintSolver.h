@@ -62,8 +62,9 @@ struct btOpenCLSolverConfig {
     // On a CPU device, the serial path can solve a split step's groups W at a time in the lanes of
     // the vector unit, W constraints of a set side by side, those on each body in their group's
     // order as a work-item walks them (the same results to the bit), where every row of the step
-    // is a contact's normal or friction row in a fixed order (no joints, rolling friction, SOLVER_RANDMIZE_ORDER, interleaved friction,
-    // rotatePoints or residual threshold: those steps walk one group a work-item). -1: the solver
+    // is a contact's normal or friction row in a fixed order (no joints, rolling friction,
+    // SOLVER_RANDMIZE_ORDER, interleaved friction, rotatePoints or residual threshold: those
+    // steps walk one group a work-item). -1: the solver
     // decides, or env BT_OPENCL_SIMD_LANES ("auto", 1, 4, 8, 16): on PoCL where the CPU has AVX2,
     // 8, the host setting the lanes' rows up, for each step whose lane layout fills its rows'
     // places well (others walk one group a work-item); elsewhere one group a work-item
