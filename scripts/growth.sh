@@ -4,10 +4,16 @@
 # resident memory is that solver's world and solver alone. Prints a Markdown table: contact
 # points, solver ms per step (median) and per 1,000 contact points (median over the steps), peak
 # RSS of each process, and our device bytes per contact point. The JSON files stay in
-# build/growth/. About 10 minutes on 2 cores.
+# build/growth/. About 10 minutes a round on 2 cores.
 #
-#   bash scripts/growth.sh              # every run below
-#   bash scripts/growth.sh block        # only the runs of one scene
+#   bash scripts/growth.sh                  # every run below, three rounds
+#   bash scripts/growth.sh block            # only the runs of one scene
+#   bash scripts/growth.sh --rounds 1 [SCENE]
+#
+# Rounds: each round runs every size with both solvers, SI first in odd rounds and ours first in
+# even ones, so that a slow minute of this VM falls on both sides; the table takes each size's
+# median over the rounds, and its ratio is the median of the rounds' ratios (two runs of one
+# round each, taken minutes apart, differed by up to 2x on single rows).
 #
 # Steps: block stands, so a few steps measure it (the 48K block holds 1.2M contact points and
 # costs Bullet's solver about 2 s a step here, plus as much again for collision detection);
@@ -17,12 +23,19 @@
 # On a CPU device (PoCL) the device's buffers are host memory: ours' RSS includes deviceBytes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+rounds=3
+if [[ "${1:-}" == "--rounds" ]]; then
+  rounds="${2:?--rounds needs a count}"
+  shift 2
+fi
+[[ "$rounds" =~ ^[1-9][0-9]*$ ]] || { echo "growth.sh: --rounds takes a positive count, not '$rounds'" >&2; exit 2; }
 only="${1:-}"
 bash scripts/setup.sh
 bash scripts/build.sh >/dev/null
 bench=build/demos/btocl_bench
 mkdir -p build/growth
-[[ -z "$only" ]] && rm -f build/growth/*.json  # one run a folder: scripts/record-bench.sh keeps it whole
+# One run a folder (scripts/record-bench.sh keeps it whole): no earlier round's files left.
+rm -f build/growth/${only:+$only-}*.json
 runs=(
   "block 3000 30"
   "block 12000 20"
@@ -35,15 +48,26 @@ names=()
 for run in "${runs[@]}"; do
   read -r scene size steps <<<"$run"
   if [[ -n "$only" && "$scene" != "$only" ]]; then continue; fi
-  # PoCL compiles a kernel variant the first time it meets a launch shape (then caches it).
-  if [[ "$size" -le 3000 ]]; then
-    "$bench" --scene "$scene" --size "$size" --steps 3 --solver ocl >/dev/null 2>&1 || true
-  fi
-  for solver in si ocl; do
-    echo "== $scene (size $size, $steps steps), --solver $solver" >&2
-    "$bench" --scene "$scene" --size "$size" --steps "$steps" --solver "$solver" \
-      --json "build/growth/$scene-$size-$solver.json" >/dev/null
-  done
   names+=("$scene-$size")
+done
+# Round 1's files are NAME-si.json and NAME-ocl.json; round r's NAME-si.r.json and NAME-ocl.r.json.
+for ((round = 1; round <= rounds; ++round)); do
+  order=(si ocl)
+  (( round % 2 == 0 )) && order=(ocl si)
+  suffix=""
+  (( round > 1 )) && suffix=".$round"
+  for run in "${runs[@]}"; do
+    read -r scene size steps <<<"$run"
+    if [[ -n "$only" && "$scene" != "$only" ]]; then continue; fi
+    # PoCL compiles a kernel variant the first time it meets a launch shape (then caches it).
+    if [[ "$round" -eq 1 && "$size" -le 3000 ]]; then
+      "$bench" --scene "$scene" --size "$size" --steps 3 --solver ocl >/dev/null 2>&1 || true
+    fi
+    for solver in "${order[@]}"; do
+      echo "== round $round of $rounds: $scene (size $size, $steps steps), --solver $solver" >&2
+      "$bench" --scene "$scene" --size "$size" --steps "$steps" --solver "$solver" \
+        --json "build/growth/$scene-$size-$solver$suffix.json" >/dev/null
+    done
+  done
 done
 python3 scripts/perf_report.py growth build/growth "${names[@]}"

@@ -125,25 +125,61 @@ def quality_lines(folder, names):
     return lines
 
 
+def growth_round_paths(folder, name, solver):
+    """One solver's JSON of each round (scripts/growth.sh): NAME-SOLVER.json, then NAME-SOLVER.R.json."""
+    later = glob.glob(os.path.join(folder, "%s-%s.*.json" % (name, solver)))
+    rounds = sorted((int(p.rsplit(".", 2)[1]), p) for p in later if p.rsplit(".", 2)[1].isdigit())
+    return [(1, os.path.join(folder, "%s-%s.json" % (name, solver)))] + rounds
+
+
+def median_round_path(folder, name_solver):
+    """Of a growth run's rounds of NAME-SOLVER, the one whose median step is the rounds' median
+    (the lower middle of an even count)."""
+    name, solver = name_solver.rsplit("-", 1)
+    found = [(load(p)["ours" if solver == "ocl" else "si"]["msPerStep"]["median"], p)
+             for _, p in growth_round_paths(folder, name, solver) if os.path.exists(p)]
+    if not found:
+        return os.path.join(folder, name_solver + ".json")
+    found.sort()
+    return found[(len(found) - 1) // 2][1]
+
+
 def growth_rows(folder, names):
+    """Per size, the rounds' runs: each side's median ms per step over the rounds, the median of
+    the rounds' ratios (a round's two runs lie minutes apart, the rounds further) and their range."""
     for name in names:
-        si = load(os.path.join(folder, name + "-si.json"))
-        oc = load(os.path.join(folder, name + "-ocl.json"))
-        yield si, si["si"], oc, oc["ours"]
+        si_runs = dict(growth_round_paths(folder, name, "si"))
+        oc_runs = dict(growth_round_paths(folder, name, "ocl"))
+        pairs = [(load(si_runs[r]), load(oc_runs[r])) for r in sorted(si_runs) if r in oc_runs]
+        first_si, first_oc = pairs[0]
+        si_ms = [si["si"]["msPerStep"]["median"] for si, _ in pairs]
+        oc_ms = [oc["ours"]["msPerStep"]["median"] for _, oc in pairs]
+        ratios = [o / s for s, o in zip(si_ms, oc_ms)]
+        yield {
+            "scene": first_si["scene"], "bodies": first_si["bodies"], "steps": first_si["steps"], "rounds": len(pairs),
+            "siPoints": first_si["si"]["contactPointsMax"], "oursPoints": first_oc["ours"]["contactPointsMax"],
+            "siMs": statistics.median(si_ms), "oursMs": statistics.median(oc_ms),
+            "ratio": statistics.median(ratios), "ratioLow": min(ratios), "ratioHigh": max(ratios),
+            "siPer1K": statistics.median(si["si"]["msPer1000ContactPoints"] for si, _ in pairs),
+            "oursPer1K": statistics.median(oc["ours"]["msPer1000ContactPoints"] for _, oc in pairs),
+            "siRss": max(si["peakRssBytes"] for si, _ in pairs), "oursRss": max(oc["peakRssBytes"] for _, oc in pairs),
+            "deviceBytes": first_oc["ours"]["deviceBytes"],
+            "deviceBytesPerPoint": first_oc["ours"]["deviceBytesPerContactPoint"],
+        }
 
 
 def growth_lines(folder, names):
-    lines = ["| scene | boxes | steps | contact points (most) SI / ours | SI ms/step | ours ms/step | ours / SI "
-             "| SI ms per 1K points | ours ms per 1K points | SI peak RSS MB | ours peak RSS MB "
-             "| ours device MB | ours device bytes per point |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| scene | boxes | steps | rounds | contact points (most) SI / ours | SI ms/step | ours ms/step "
+             "| ours / SI (rounds' range) | SI ms per 1K points | ours ms per 1K points | SI peak RSS MB "
+             "| ours peak RSS MB | ours device MB | ours device bytes per point |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     mb = lambda b: b / 2**20
-    for si, s, oc, o in growth_rows(folder, names):
-        lines.append("| %s | %d | %d | %d / %d | %.1f | %.1f | %.2f | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
-            si["scene"], si["bodies"], si["steps"], s["contactPointsMax"], o["contactPointsMax"],
-            s["msPerStep"]["median"], o["msPerStep"]["median"], o["msPerStep"]["median"] / s["msPerStep"]["median"],
-            s["msPer1000ContactPoints"], o["msPer1000ContactPoints"],
-            mb(si["peakRssBytes"]), mb(oc["peakRssBytes"]), mb(o["deviceBytes"]), o["deviceBytesPerContactPoint"]))
+    for g in growth_rows(folder, names):
+        spread_text = " (%.2f-%.2f)" % (g["ratioLow"], g["ratioHigh"]) if g["rounds"] > 1 else ""
+        lines.append("| %s | %d | %d | %d | %d / %d | %.1f | %.1f | %.2f%s | %.3f | %.3f | %.0f | %.0f | %.0f | %.0f |" % (
+            g["scene"], g["bodies"], g["steps"], g["rounds"], g["siPoints"], g["oursPoints"], g["siMs"], g["oursMs"],
+            g["ratio"], spread_text, g["siPer1K"], g["oursPer1K"], mb(g["siRss"]), mb(g["oursRss"]),
+            mb(g["deviceBytes"]), g["deviceBytesPerPoint"]))
     return lines
 
 
@@ -230,9 +266,10 @@ def growth_plot(run_list, out_png):
         return False
     folder, meta = run_list[-1]
     series = {}
-    for si, s, oc, o in growth_rows(folder, growth_names(folder)):
-        for label, side in (("Bullet's solver (SI)", s), ("btOpenCLConstraintSolver", o)):
-            series.setdefault((si["scene"], label), []).append((side["contactPointsMax"], side["msPerStep"]["median"]))
+    for g in growth_rows(folder, growth_names(folder)):
+        for label, points, ms_step in (("Bullet's solver (SI)", g["siPoints"], g["siMs"]),
+                                       ("btOpenCLConstraintSolver", g["oursPoints"], g["oursMs"])):
+            series.setdefault((g["scene"], label), []).append((points, ms_step))
     fig, ax = plt.subplots(figsize=(7, 4.5), dpi=100)
     styles = {"Bullet's solver (SI)": dict(color="#b03030"), "btOpenCLConstraintSolver": dict(color="#2060b0")}
     marks = {"block": "o-", "columns": "s--"}
@@ -323,7 +360,7 @@ def limit_table(speed_runs, hardware_runs, growth_runs=(), scenes=("block-12000"
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     paths = [os.path.join(speed_runs[-1][0], name + ".json") for name in scenes]
     if growth_runs:
-        paths += [os.path.join(growth_runs[-1][0], name + ".json") for name in growth_scenes]
+        paths += [median_round_path(growth_runs[-1][0], name) for name in growth_scenes]
     for path in paths:
         if not os.path.exists(path):
             continue
