@@ -4,7 +4,7 @@
 # resident memory is that solver's world and solver alone. Prints a Markdown table: contact
 # points, solver ms per step (median) and per 1,000 contact points (median over the steps), peak
 # RSS of each process, and our device bytes per contact point. The JSON files stay in
-# build/growth/. About 10 minutes a round on 2 cores.
+# build/growth/. About 5 minutes a round on 2 cores.
 #
 #   bash scripts/growth.sh                  # every run below, three rounds
 #   bash scripts/growth.sh block            # only the runs of one scene
@@ -16,7 +16,10 @@
 # round each, taken minutes apart, differed by up to 2x on single rows).
 #
 # Steps: block stands, so a few steps measure it (the 48K block holds 1.2M contact points and
-# costs Bullet's solver about 2 s a step here, plus as much again for collision detection);
+# costs Bullet's solver about 1.3 s a step here, plus about 2 s for collision detection), but
+# enough that the first ones stay out of the median: ours' first two 48K steps write their
+# arrays for the first time (about 0.9 s each) and its third is the host's first (docs/
+# performance.md, "How cost grows"), so 6 steps measured start-up in half their median;
 # columns change through the run (standing columns, then the collapse, then a pile), so every
 # size runs the same 150 steps (2.5 s: the columns fall; the 48K run's collision detection alone
 # takes about 0.7 s a step here) and is compared per contact point.
@@ -39,7 +42,7 @@ rm -f build/growth/${only:+$only-}*.json
 runs=(
   "block 3000 30"
   "block 12000 20"
-  "block 48000 6"
+  "block 48000 12"
   "columns 3000 150"
   "columns 12000 150"
   "columns 48000 150"
