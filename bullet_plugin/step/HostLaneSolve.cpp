@@ -114,8 +114,9 @@ namespace {
 constexpr size_t kStreamedRowsBytes = size_t(8) << 20;
 
 // The points of the slot two on and the bodies of the next lie scattered, and the setup waited
-// for them: asked for at `slot`, they come while it is set up. Inlined: called, it cost the loop
-// more than it saved.
+// for them: asked for at `slot`, they come while it is set up. So do the lines of the points'
+// friction directions, which the setup writes (a line holds two points' and is read before it is
+// written, eight places at a time). Inlined: called, it cost the loop more than it saved.
 inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p, const LaneLayout& layout,
                                                             size_t slot) {
     const size_t numSlots = layout.slots.size();
@@ -123,10 +124,12 @@ inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p
     if (slot + 2 < numSlots) {
         const int* later = ints + 2 * BTOCL_LANE_INTS * W;
         for (int i = 0; i < W; ++i) {
-            const char* first =
-                reinterpret_cast<const char*>(p.points.data() + later[BTOCL_LANE_FIRST_POINT * W + i]);
-            const int bytes = later[BTOCL_LANE_POINTS * W + i] * int(sizeof(btoclContactPoint));
-            for (int line = 0; line < bytes; line += 64) __builtin_prefetch(first + line);
+            const int firstPoint = later[BTOCL_LANE_FIRST_POINT * W + i], points = later[BTOCL_LANE_POINTS * W + i];
+            const char* first = reinterpret_cast<const char*>(p.points.data() + firstPoint);
+            for (int line = 0; line < points * int(sizeof(btoclContactPoint)); line += 64)
+                __builtin_prefetch(first + line);
+            prefetchBytes(p.lateralDirs.data() + 2 * size_t(firstPoint), size_t(points) * 2 * sizeof(btoclFloat4),
+                          true);
         }
     }
     if (slot + 1 < numSlots) {
