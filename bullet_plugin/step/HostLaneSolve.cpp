@@ -125,9 +125,7 @@ inline __attribute__((always_inline)) void askForSlotInputs(const StepProblem& p
         const int* later = ints + 2 * BTOCL_LANE_INTS * W;
         for (int i = 0; i < W; ++i) {
             const int firstPoint = later[BTOCL_LANE_FIRST_POINT * W + i], points = later[BTOCL_LANE_POINTS * W + i];
-            const char* first = reinterpret_cast<const char*>(p.points.data() + firstPoint);
-            for (int line = 0; line < points * int(sizeof(btoclContactPoint)); line += 64)
-                __builtin_prefetch(first + line);
+            prefetchBytes(p.points.data() + firstPoint, size_t(points) * sizeof(btoclContactPoint));
             prefetchBytes(p.lateralDirs.data() + 2 * size_t(firstPoint), size_t(points) * 2 * sizeof(btoclFloat4),
                           true);
         }
