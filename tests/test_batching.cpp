@@ -6,6 +6,8 @@
 #include "JointScenes.h"
 #include "HostBatching.h"
 #include "LayoutValidator.h"
+#include "HostSplit.h"
+#include "ParallelFrom.h"
 #include "DeviceLayout.h"
 #include "TestDevice.h"
 #include "btOpenCLConstraintSolver.h"
@@ -304,6 +306,26 @@ TEST_CASE("bad input is refused with a clear error", "[batching]") {
     scene.constraints[3].bodyB = int(scene.bodies.size()) + 5;
     CHECK_THROWS_WITH(buildBatchesHost(scene.constraints, scene.bodies, SplitParams{}),
                       Catch::Contains("names body"));
+}
+
+TEST_CASE("the host's split names the first constraint with a bad body, serial or on the pool", "[batching]") {
+    BatchScene scene = pyramid(20);
+    const size_t n = scene.constraints.size();
+    REQUIRE(n > 200);
+    BatchLayout layout;
+    splitHostInto(scene.constraints.data(), n, scene.bodies, SplitParams{}, true, layout);
+    const BatchLayout before = layout;
+    // Two bad constraints in different chunks of the check: the lower is named either way.
+    scene.constraints[n / 3].bodyA = -1;
+    scene.constraints[n - 2].bodyB = int(scene.bodies.size());
+    const std::string first = "constraint " + std::to_string(n / 3) + " names body -1";
+    for (const size_t from : {kMinParallelItems * 1000, size_t(1)}) {
+        test::ParallelFrom parallel(from);
+        CHECK_THROWS_WITH(splitHostInto(scene.constraints.data(), n, scene.bodies, SplitParams{}, true, layout),
+                          Catch::Contains(first));
+        CHECK(layout.solveOrder == before.solveOrder);
+        CHECK(layout.groups.size() == before.groups.size());
+    }
 }
 
 TEST_CASE("the grid caps the cells per axis by enlarging the cell", "[batching]") {
