@@ -17,9 +17,10 @@
 #
 # Steps: block stands, so a few steps measure it (the 48K block holds 1.2M contact points and
 # costs Bullet's solver about 1.3 s a step here, plus about 2 s for collision detection), but
-# enough that the first ones stay out of the median: ours' first two 48K steps write its arrays
-# for the first time (about 0.9 s each) and the third is the host's first, so the 48K block runs
-# 12 (docs/performance.md, "How cost grows");
+# enough that the first ones stay out of the median: ours' first 48K step writes its arrays for
+# the first time (about 1 s; the second did too until its arrays kept room to spare) and its
+# first steps time the device's and the host's ways by turns, so the 48K block runs 12
+# (docs/performance.md, "How cost grows");
 # columns change through the run (standing columns, then the collapse, then a pile), so every
 # size runs the same 150 steps (2.5 s: the columns fall; the 48K run's collision detection alone
 # takes about 0.7 s a step here) and is compared per contact point.

@@ -1,6 +1,7 @@
 #include "BulletGather.h"
 
 #include "BulletConversions.h"
+#include "HostArray.h"
 #include "HostParallel.h"
 #include "HostRowSetup.h"
 #include "InputChecks.h"
@@ -89,14 +90,6 @@ size_t runBegin(size_t n, size_t r) { return n * r / kPlaceRuns; }
 // first to find it unset.
 void setOnce(std::atomic<bool>& flag) {
     if (!flag.load(std::memory_order_relaxed)) flag.store(true, std::memory_order_relaxed);
-}
-
-// Sized for every element to be overwritten: growth keeps a quarter to spare (a settling scene's
-// contacts grow for a few steps, and each exact-fit regrowth would be fresh memory to fault in).
-template <class T, class Allocator>
-void resizeForOverwrite(std::vector<T, Allocator>& v, size_t n) {
-    if (n > v.capacity()) v.reserve(n + n / 4);
-    v.resize(n);
 }
 
 }  // namespace

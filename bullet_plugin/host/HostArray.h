@@ -6,6 +6,7 @@
 // where the driver would otherwise copy pageable memory through a pinned buffer of its own first.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <memory>
 #include <new>
@@ -93,6 +94,17 @@ struct HostArrayAllocator : DefaultInitConstruct {
 
 template <class T>
 using HostArray = std::vector<T, HostArrayAllocator<T>>;
+
+// Sizes an array of a step whose elements are all written next. It regrows to twice its capacity,
+// as std::vector does, but to what is asked and a quarter where that is more: a dense scene's
+// contacts grow by some per cent in its first steps, and a regrowth just past the first step's
+// size is fresh memory to fault in (about 3 s a GiB on this VM; docs/performance.md, "Arrays of a
+// step sized with room to spare").
+template <class T, class Allocator>
+void resizeForOverwrite(std::vector<T, Allocator>& v, std::size_t n) {
+    if (n > v.capacity()) v.reserve(std::max(n + n / 4, 2 * v.capacity()));
+    v.resize(n);
+}
 
 // The same elements in storage from `source` (null: the heap).
 template <class T>

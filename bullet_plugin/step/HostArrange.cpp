@@ -1,13 +1,15 @@
 #include "HostArrange.h"
 
+#include "HostArray.h"
+
 #include <cstddef>
 
 namespace btocl {
 
 void arrangeOnHost(const int* solveOrder, const btoclConstraint* constraints, int n, const btoclRowRegions& regions,
                    HostArrangement& out) {
-    out.placed.resize(std::size_t(n));
-    out.rowMap.resize(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]));
+    resizeForOverwrite(out.placed, std::size_t(n));
+    resizeForOverwrite(out.rowMap, std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]));
     int next[2] = {0, btoclFrictionRegionStart(&regions)};
     for (int i = 0; i < n; ++i) {
         btoclConstraint c = constraints[solveOrder[i]];

@@ -1,5 +1,6 @@
 #include "HostLaneSolve.h"
 
+#include "HostArray.h"
 #include "HostParallel.h"
 #include "HostSplit.h"
 #include "btOpenCLSolverError.h"
@@ -146,11 +147,11 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, Lane
         throw btOpenCLSolverError("btOpenCLConstraintSolver: the host sets up lanes of " + std::to_string(W) +
                                   ", not " + std::to_string(layout.lanes));
     const size_t numSlots = layout.slots.size();
-    out.rows.resize(size_t(layout.numBlocks) * BTOCL_LANE_ROW_FLOATS * W);
-    out.applied.resize(size_t(layout.numBlocks) * W);
-    out.pushApplied.resize(size_t(layout.numBlocks) * W);
-    out.inVectors.resize(numSlots);
-    p.lateralDirs.resize(2 * p.points.size());
+    resizeForOverwrite(out.rows, size_t(layout.numBlocks) * BTOCL_LANE_ROW_FLOATS * W);
+    resizeForOverwrite(out.applied, size_t(layout.numBlocks) * W);
+    resizeForOverwrite(out.pushApplied, size_t(layout.numBlocks) * W);
+    resizeForOverwrite(out.inVectors, numSlots);
+    resizeForOverwrite(p.lateralDirs, 2 * p.points.size());
     // Rows larger than the caches near the cores are streamed past them: the solve reads them from
     // memory either way, and a line written whole need not be read first. Smaller ones stay, for
     // the solve's first pass.
@@ -536,7 +537,7 @@ int HostLaneSolve::solve(StepProblem& p, const btoclPassSchedule& passes, bool o
     // Every row's impulse back in gather order, as the write-back reads them (a dense block has
     // 600K rows).
     const std::vector<int>& rowMap = m_layout.rowMap;
-    p.appliedImpulses.resize(rowMap.size());
+    resizeForOverwrite(p.appliedImpulses, rowMap.size());
     const size_t contactRows = m_hasJoints ? size_t(m_firstJointRow) : rowMap.size();
     parallelFor(contactRows, [&](size_t r) { p.appliedImpulses[r] = m_rows.applied[size_t(rowMap[r])]; });
     for (size_t r = contactRows; r < rowMap.size(); ++r)

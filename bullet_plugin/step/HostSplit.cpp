@@ -1,5 +1,6 @@
 #include "HostSplit.h"
 
+#include "HostArray.h"
 #include "HostParallel.h"
 #include "btOpenCLSolverError.h"
 
@@ -71,8 +72,9 @@ void splitHostInto(const btoclConstraint* constraints, size_t count, const std::
     btoclSplitGrid grid{};
     if (count > 0) grid = makeSplitGridHost(constraints, count, plan.baseCellSize);
     const int n = int(count);
-    layout.solveOrder.resize(size_t(n));
-    layout.batchEnd.assign(size_t(n), 0);
+    resizeForOverwrite(layout.solveOrder, size_t(n));
+    resizeForOverwrite(layout.batchEnd, size_t(n));
+    std::fill(layout.batchEnd.begin(), layout.batchEnd.end(), 0);
     layout.groups.clear();
     layout.setGroupStart.fill(0);
     layout.cellSize = 0;

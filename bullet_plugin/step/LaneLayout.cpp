@@ -1,5 +1,6 @@
 #include "LaneLayout.h"
 
+#include "HostArray.h"
 #include "HostParallel.h"
 #include "HostSplit.h"
 #include "btOpenCLSolverError.h"
@@ -46,7 +47,7 @@ struct GroupSpan {
 // wait on each. Throws btOpenCLSolverError for a constraint the lanes do not solve.
 void readLaneRecords(const BatchLayout& split, const btoclConstraint* constraints, int frictionPerPoint,
                      std::vector<LaneRecord>& records) {
-    records.resize(split.solveOrder.size());
+    resizeForOverwrite(records, split.solveOrder.size());
     parallelFor(records.size(), [&](std::size_t k) {
         const int ci = split.solveOrder[k];
         const btoclConstraint& c = constraints[ci];
@@ -340,11 +341,11 @@ void layOutLanes(const BatchLayout& split, const btoclConstraint* constraints, c
         numSlots += slots;
         for (const int blocks : plans[b].normalBlocks) normalTotal += blocks;
     }
-    out.slots.resize(std::size_t(numSlots));
-    out.laneInts.resize(std::size_t(numSlots) * BTOCL_LANE_INTS * std::size_t(lanes));
-    out.laneConstraint.resize(std::size_t(numSlots) * std::size_t(lanes));
+    resizeForOverwrite(out.slots, std::size_t(numSlots));
+    resizeForOverwrite(out.laneInts, std::size_t(numSlots) * BTOCL_LANE_INTS * std::size_t(lanes));
+    resizeForOverwrite(out.laneConstraint, std::size_t(numSlots) * std::size_t(lanes));
     // Every row is some constraint's, and each constraint is written once: no entry stays unset.
-    out.rowMap.resize(std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]));
+    resizeForOverwrite(out.rowMap, std::size_t(regions.start[BTOCL_NUM_ROW_KINDS]));
     std::vector<std::pair<long long, long long>> used(plans.size());
     parallelFor(plans.size(), [&](std::size_t b) { used[b] = writeBundle(plans[b], records, normalTotal, out); },
                 bundleWeight);
