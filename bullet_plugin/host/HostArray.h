@@ -98,8 +98,8 @@ using HostArray = std::vector<T, HostArrayAllocator<T>>;
 // Sizes an array of a step whose elements are all written next. It regrows to twice its capacity,
 // as std::vector does, but to what is asked and a quarter where that is more: a dense scene's
 // contacts grow by some per cent in its first steps, and a regrowth just past the first step's
-// size is fresh memory to fault in (about 3 s a GiB on this VM; docs/performance.md, "Arrays of a
-// step sized with room to spare").
+// size is fresh memory to fault in (docs/performance.md, "Arrays of a step sized with room to
+// spare").
 template <class T, class Allocator>
 void resizeForOverwrite(std::vector<T, Allocator>& v, std::size_t n) {
     if (n > v.capacity()) v.reserve(std::max(n + n / 4, 2 * v.capacity()));
