@@ -4,6 +4,7 @@
 // setup, on contacts gathered from a real world.
 #include "GatherAndSolve.h"
 #include "HostSolve.h"
+#include "ParallelFrom.h"
 #include "Scenes.h"
 #include "SerialLayout.h"
 #include "StepProblem.h"
@@ -12,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstring>
 
 using namespace btocl;
 using namespace btocl::test;
@@ -204,6 +206,35 @@ TEST_CASE("a large world's contacts are set up on the host and on the device as 
     // ill-conditioned (cancellation), in SI too, and would test rounding, not the packing.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
     requireRowsAsSI(w, info);
+}
+
+TEST_CASE("point records stored past the caches are the records stored plainly", "[setup][parallel]") {
+    // A step whose records outgrow the caches stores them past them (kStreamedArrayBytes): the
+    // same bytes, read after the pack's loop, on one thread or the pool's.
+    World w(SolverKind::Reference);
+    groundAndPile(w, 48);
+    for (int i = 0; i < 30; ++i) w.step();
+    const btContactSolverInfo info = w.stepInfo();
+    auto gather = [&](bool streamed) {
+        btocl::StepGatherer builder;
+        builder.streamPointsAlways(streamed);
+        builder.begin(info, btocl::RowSetup::Device);
+        btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
+        builder.addBodies(&objects[0], objects.size());
+        const std::vector<btPersistentManifold*> manifolds = w.manifolds();
+        builder.addManifolds(manifolds.data(), int(manifolds.size()));
+        const btocl::StepProblem& p = builder.finish();
+        std::vector<unsigned char> bytes(p.points.size() * sizeof(btoclContactPoint));
+        std::memcpy(bytes.data(), p.points.data(), bytes.size());
+        builder.releaseBodies();
+        return bytes;
+    };
+    const std::vector<unsigned char> plain = gather(false);
+    REQUIRE(plain.size() >= 40 * sizeof(btoclContactPoint));
+    CHECK(gather(true) == plain);
+    btocl::test::ParallelFrom parallel(1);  // the pack's loop on the pool's threads too
+    CHECK(gather(true) == plain);
+    CHECK(gather(false) == plain);
 }
 
 TEST_CASE("the gather counts a manifold's points unread, read, or again, and places the rows as SI does",

@@ -14,6 +14,10 @@
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cstddef>
 #include <string>
@@ -45,6 +49,18 @@ constexpr unsigned char kBodyMoves = 1, kBodyDynamic = 2;
 
 unsigned char traitsOf(const btoclBody& b) {
     return (toVector3(b.invMass).fuzzyZero() ? 0 : kBodyMoves) | (BTOCL_BODY_IS_DYNAMIC(b) ? kBodyDynamic : 0);
+}
+
+// A point record stored past the caches (StepGatherer::m_streamPoints): the same bytes.
+void streamPoint(btoclContactPoint* to, const btoclContactPoint& from) {
+#if defined(__SSE2__)
+    static_assert(sizeof(btoclContactPoint) % 16 == 0 && alignof(btoclContactPoint) >= 16, "whole 16-byte stores");
+    const __m128* src = reinterpret_cast<const __m128*>(&from);
+    float* dst = reinterpret_cast<float*>(to);
+    for (size_t q = 0; q < sizeof(btoclContactPoint) / 16; ++q) _mm_stream_ps(dst + 4 * q, src[q]);
+#else
+    *to = from;
+#endif
 }
 
 // A manifold's tail: the lines after its points (bodies, count and thresholds).
@@ -372,7 +388,10 @@ void StepGatherer::packManifold(size_t m) {
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
-        p.points[size_t(point)] = pt;
+        if (m_streamPoints)
+            streamPoint(&p.points[size_t(point)], pt);
+        else
+            p.points[size_t(point)] = pt;
         m_bullet.manifoldPoints[size_t(point)] = &cp;
         ++point;
         if (pt.firstRollingRow >= 0) rolling += 3;
@@ -434,6 +453,9 @@ void StepGatherer::packManifolds() {
     const int numPoints = btoclRegionRows(&p.regions, BTOCL_ROWS_NORMAL);
     const int numConstraints = m_numConstraints;
     resizeForOverwrite(p.points, size_t(numPoints));
+    // Records that outgrow the caches are stored past them: the lanes' setup reads them slot by
+    // slot after the split and the layout, from memory either way.
+    m_streamPoints = m_streamPointsAlways || size_t(numPoints) * sizeof(btoclContactPoint) >= kStreamedArrayBytes;
     resizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
     resizeForOverwrite(p.constraints, size_t(numConstraints));
     resizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints));
@@ -444,6 +466,7 @@ void StepGatherer::packManifolds() {
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
         packManifold(m);
     }, kManifoldWeight);
+    if (m_streamPoints) drainStreamedStores();  // the pool's threads drained theirs as they finished
     if (m_countWrong.load(std::memory_order_relaxed)) {
         // A point out of reach (an absurd distance), or rolling friction, which a scene that has
         // it keeps having: this step and the later ones read every point in the count.

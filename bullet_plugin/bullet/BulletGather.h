@@ -43,6 +43,9 @@ public:
     void useHostMemory(HostMemorySource* source) { m_problem.takeHostMemoryFrom(source); }
     // Returns every body's companion id to -1 (Bullet's "not in a solver").
     void releaseBodies();
+    // The point records stored past the caches however few (the tests'; else from
+    // kStreamedArrayBytes on, HostParallel.h).
+    void streamPointsAlways(bool always) { m_streamPointsAlways = always; }
 
     const btContactSolverInfo& info() const { return m_info; }
     // The solver body of an object (SI's getOrInitSolverBody): a dynamic or kinematic rigid body
@@ -98,6 +101,8 @@ private:
     // with rolling friction; from then on the count reads every point (m_countEveryPoint).
     std::atomic<bool> m_countWrong{false};
     bool m_countEveryPoint = false;
+    bool m_streamPointsAlways = false;
+    bool m_streamPoints = false;  // this step's point records stored past the caches
     int m_numConstraints = 0;      // the manifolds' constraints (placeSlots)
     std::vector<RunCounts> m_runs;  // per fixed run of slots (placeSlots)
 };

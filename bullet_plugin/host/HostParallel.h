@@ -65,10 +65,16 @@ constexpr size_t kAwakeThresholdDivisor = 8;
 // a chunk itself) runs its chunks on its own thread. chunk must not throw.
 void runChunks(int numChunks, void (*chunk)(void* context, int c), void* context);
 
-// Stores past the caches (LaneRowSetup.cpp's streamed rows) are ordered by no lock: a thread that
-// made some drains them before another may read what they wrote. The pool's threads drain theirs
-// as they finish their chunks of a loop; a caller drains what it stored itself.
+// Stores past the caches (LaneRowSetup.cpp's streamed rows, the gather's point records) are
+// ordered by no lock: a thread that made some drains them before another may read what they
+// wrote. The pool's threads drain theirs as they finish their chunks of a loop; a caller drains
+// what it stored itself.
 void drainStreamedStores();
+// From this size on, an array that a step writes whole and reads later is stored past the caches:
+// it outgrows the caches near the cores, so its reader finds it in memory either way, and a line
+// written whole need not be read first (docs/performance.md, "Lane rows asked for ahead and
+// streamed").
+constexpr size_t kStreamedArrayBytes = size_t(8) << 20;
 
 // The threads a loop of n items of `weight` would run on (parallelFor's rule, the pool awake).
 inline int threadsForLoop(size_t n, size_t weight) {

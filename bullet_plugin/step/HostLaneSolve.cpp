@@ -109,11 +109,6 @@ void setUpBodyPerUnit(const StepProblem& p, int flags, HostArray<float>& out) {
 
 namespace {
 
-// From this size on a step's lane rows are streamed past the caches as they are set up: rows
-// that outgrow the caches near the cores (docs/performance.md, "Lane rows asked for ahead and
-// streamed").
-constexpr size_t kStreamedRowsBytes = size_t(8) << 20;
-
 // The points of the slot two on and the bodies of the next lie scattered, and the setup waited
 // for them: asked for at `slot`, they come while it is set up. So do the lines of the points'
 // friction directions, which the setup writes (a line holds two points' and is read before it is
@@ -156,7 +151,7 @@ void setUpLaneRows(StepProblem& p, const LaneLayout& layout, LaneRows& out, Lane
     // memory either way, and a line written whole need not be read first. Smaller ones stay, for
     // the solve's first pass.
     const bool stream =
-        stores == LaneRowStores::Streamed || out.rows.size() * sizeof(float) > kStreamedRowsBytes;
+        stores == LaneRowStores::Streamed || out.rows.size() * sizeof(float) > kStreamedArrayBytes;
     parallelFor(numSlots, [&](size_t slot) {
         const int* ints = layout.laneInts.data() + slot * (BTOCL_LANE_INTS * W);
         askForSlotInputs(p, layout, slot);
