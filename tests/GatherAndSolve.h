@@ -24,8 +24,11 @@ struct GatheredStep {
     StepProblem problem;
     BulletStep bullet;
 };
-inline GatheredStep gatherStep(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
+// streamPoints: the point records stored past the caches however few (StepGatherer::streamPointsAlways).
+inline GatheredStep gatherStep(testworld::World& w, const btContactSolverInfo& info, RowSetup setup,
+                               bool streamPoints = false) {
     StepGatherer builder;
+    builder.streamPointsAlways(streamPoints);
     builder.begin(info, setup);
     btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
     builder.addBodies(&objects[0], objects.size());
@@ -38,8 +41,9 @@ inline GatheredStep gatherStep(testworld::World& w, const btContactSolverInfo& i
     builder.releaseBodies();
     return g;
 }
-inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup) {
-    return gatherStep(w, info, setup).problem;
+inline StepProblem gatherProblem(testworld::World& w, const btContactSolverInfo& info, RowSetup setup,
+                                 bool streamPoints = false) {
+    return gatherStep(w, info, setup, streamPoints).problem;
 }
 
 // How the step's host arrays reach the device: handed over in place where it works in the

@@ -216,17 +216,9 @@ TEST_CASE("point records stored past the caches are the records stored plainly",
     for (int i = 0; i < 30; ++i) w.step();
     const btContactSolverInfo info = w.stepInfo();
     auto gather = [&](bool streamed) {
-        btocl::StepGatherer builder;
-        builder.streamPointsAlways(streamed);
-        builder.begin(info, btocl::RowSetup::Device);
-        btCollisionObjectArray& objects = w.dyn().getCollisionObjectArray();
-        builder.addBodies(&objects[0], objects.size());
-        const std::vector<btPersistentManifold*> manifolds = w.manifolds();
-        builder.addManifolds(manifolds.data(), int(manifolds.size()));
-        const btocl::StepProblem& p = builder.finish();
+        const StepProblem p = gatherProblem(w, info, RowSetup::Device, streamed);
         std::vector<unsigned char> bytes(p.points.size() * sizeof(btoclContactPoint));
         std::memcpy(bytes.data(), p.points.data(), bytes.size());
-        builder.releaseBodies();
         return bytes;
     };
     const std::vector<unsigned char> plain = gather(false);

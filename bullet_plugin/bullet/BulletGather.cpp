@@ -51,7 +51,7 @@ unsigned char traitsOf(const btoclBody& b) {
     return (toVector3(b.invMass).fuzzyZero() ? 0 : kBodyMoves) | (BTOCL_BODY_IS_DYNAMIC(b) ? kBodyDynamic : 0);
 }
 
-// A point record stored past the caches (StepGatherer::m_streamPoints): the same bytes.
+// A point record stored past the caches (StepGatherer::packManifolds): the same bytes.
 void streamPoint(btoclContactPoint* to, const btoclContactPoint& from) {
 #if defined(__SSE2__)
     static_assert(sizeof(btoclContactPoint) % 16 == 0 && alignof(btoclContactPoint) >= 16, "whole 16-byte stores");
@@ -337,7 +337,7 @@ void StepGatherer::countPoints(size_t m) {
 // the places the slot was given. Rows are one normal row a point, one or two friction rows,
 // three rolling rows when rolling friction is on (the host setup may drop rolling rows;
 // HostRowSetup.h), in gather order: all normal rows, then friction, then rolling rows.
-void StepGatherer::packManifold(size_t m) {
+void StepGatherer::packManifold(size_t m, bool stream) {
     ManifoldSlot& slot = m_slots[m];
     if (slot.constraint < 0) return;
     btPersistentManifold* manifold = m_manifolds[m];
@@ -388,7 +388,7 @@ void StepGatherer::packManifold(size_t m) {
         pt.bodyB = idB;
         pt.flags = cp.m_contactPointFlags;
         pt.firstRollingRow = cp.m_combinedRollingFriction > 0 ? rolling : -1;
-        if (m_streamPoints)
+        if (stream)
             streamPoint(&p.points[size_t(point)], pt);
         else
             p.points[size_t(point)] = pt;
@@ -455,7 +455,8 @@ void StepGatherer::packManifolds() {
     resizeForOverwrite(p.points, size_t(numPoints));
     // Records that outgrow the caches are stored past them: the lanes' setup reads them slot by
     // slot after the split and the layout, from memory either way.
-    m_streamPoints = m_streamPointsAlways || size_t(numPoints) * sizeof(btoclContactPoint) >= kStreamedArrayBytes;
+    const bool stream =
+        m_streamPointsAlways || size_t(numPoints) * sizeof(btoclContactPoint) >= kStreamedArrayBytes;
     resizeForOverwrite(m_bullet.manifoldPoints, size_t(numPoints));
     resizeForOverwrite(p.constraints, size_t(numConstraints));
     resizeForOverwrite(m_bullet.manifoldOfConstraint, size_t(numConstraints));
@@ -464,9 +465,9 @@ void StepGatherer::packManifolds() {
         const size_t ahead = m + kPrefetchAhead;
         if (ahead < numManifolds && m_slots[ahead].constraint >= 0)  // a manifold left out is not read
             prefetchForPack(m_manifolds[ahead], m_slots[ahead].numContacts);
-        packManifold(m);
+        packManifold(m, stream);
     }, kManifoldWeight);
-    if (m_streamPoints) drainStreamedStores();  // the pool's threads drained theirs as they finished
+    if (stream) drainStreamedStores();  // the pool's threads drained theirs as they finished
     if (m_countWrong.load(std::memory_order_relaxed)) {
         // A point out of reach (an absurd distance), or rolling friction, which a scene that has
         // it keeps having: this step and the later ones read every point in the count.

@@ -74,7 +74,8 @@ private:
     bool canMove(const ManifoldSlot& slot) const;
     bool countsUnread(const btPersistentManifold& manifold) const;
     void countPoints(size_t manifold);
-    void packManifold(size_t manifold);
+    // stream: the record stored past the caches (packManifolds decides it for the step).
+    void packManifold(size_t manifold, bool stream);
     // What a run of slots takes (placeSlots): constraints, points, rolling rows.
     struct RunCounts {
         int constraints = 0, points = 0, rolling = 0;
@@ -102,7 +103,6 @@ private:
     std::atomic<bool> m_countWrong{false};
     bool m_countEveryPoint = false;
     bool m_streamPointsAlways = false;
-    bool m_streamPoints = false;  // this step's point records stored past the caches
     int m_numConstraints = 0;      // the manifolds' constraints (placeSlots)
     std::vector<RunCounts> m_runs;  // per fixed run of slots (placeSlots)
 };
