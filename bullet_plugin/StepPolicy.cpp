@@ -84,12 +84,13 @@ btOpenCLSolvePath resolveSolvePath(btOpenCLSolvePath asked, const OclRuntime& ru
 namespace {
 
 // Contact rows as the lanes solve them (kernels/lane_solve.h, HostLaneSolve.h): each point's
-// friction rows after its normal row's, no rolling rows, set up from the points, in a pass order
+// friction rows after its normal row's, no rolling rows, set up from the points, every body's
+// angular change kept scaled (the rows' 13 floats: BTOCL_LANE_ROW_FLOATS), in a pass order
 // the lanes keep (each group's constraints go through the lanes in its order, each as
 // btoclSolveConstraint solves it in passes that pair: btoclPassPairs), and the contacts'
 // iterations all there are.
 bool contactsFitLanes(const StepProblem& p, const SolveSettings& settings, const btoclPassSchedule& passes) {
-    return p.rowsOnDevice && contactRowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
+    return p.rowsOnDevice && p.unscaledBodies == 0 && contactRowsFitLanes(p.regions, p.frictionRowsPerPoint()) &&
            passes.maxIterations == passes.numIterations &&
            btoclPassPairs(BTOCL_PASS_NORMAL, settings.flags, 0, passes.numIterations);
 }

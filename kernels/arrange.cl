@@ -56,13 +56,15 @@ __kernel void placeConstraints(__global const int* solveOrder, __global const bt
 // them; their starting impulses to the compact arrays that the solve updates.
 __kernel void placeRows(__global const btoclRow* in, int base, __global const int* rowMap,
                         __global btoclSolveRow* out, __global int* normalOfRow, __global float* applied,
-                        __global float* pushApplied, int n, btoclRowRegions regions) {
+                        __global float* pushApplied, int n, btoclRowRegions regions,
+                        __global const btoclBody* bodies) {
     const int r = get_global_id(0);
     if (r >= n) return;
     const btoclRow row = in[r];
     const int g = base + r;
     const int to = rowMap[g];
-    out[to] = btoclSolveRowOf(row, btoclKindOfRow(&regions, g));
+    const btoclBody A = bodies[row.bodyA], B = bodies[row.bodyB];
+    out[to] = btoclSolveRowOf(row, btoclKindOfRow(&regions, g), &A, &B);
     if (row.frictionIndex >= 0) normalOfRow[to] = rowMap[row.frictionIndex];
     applied[to] = BTOCL_ROW_APPLIED(row);
     pushApplied[to] = BTOCL_ROW_APPLIED_PUSH(row);

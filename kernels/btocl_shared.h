@@ -210,10 +210,14 @@ typedef struct {
     btoclFloat4 angularVelocity;  // xyz
     btoclFloat4 externalForceImpulse;   // xyz: gravity and forces times dt/mass
     btoclFloat4 externalTorqueImpulse;  // xyz
+    btoclFloat4 angularScaleRow0;  // S, the world inverse inertia's square root (S S = it), rows; w
+    btoclFloat4 angularScaleRow1;  // of row 0: 1 where the passes keep the body's angular velocity
+    btoclFloat4 angularScaleRow2;  // change as u, dw = S u (btoclSolveRowOf), else 0
 } btoclBody;
 #define BTOCL_BODY_IS_DYNAMIC(b) ((b).invMass.w)        // 1 if dynamic, else 0
 #define BTOCL_BODY_INV_MASS(b) ((b).linearFactor.w)     // scalar inverse mass
 #define BTOCL_BODY_IS_RIGID(b) ((b).angularFactor.w)    // 1 for a rigid body, 0 for the fixed body
+#define BTOCL_BODY_SCALED(b) ((b).angularScaleRow0.w)   // 1: its angular change kept scaled by S
 
 // What a step changes of a body; written by the solve, read back by the host.
 typedef struct {
@@ -352,11 +356,13 @@ enum { BTOCL_LANE_BODY_A, BTOCL_LANE_BODY_B, BTOCL_LANE_POINTS, BTOCL_LANE_FIRST
 // (the only ones stored), angularPerUnit xyz, 0; then the other passes' eight, the same way.
 #define BTOCL_BODY_PER_UNIT_FLOATS 16
 #define BTOCL_SOLVE_ROW_FLOATS 20
-// A lane block's row: btoclSolveRow's floats 0 to 18, float 15 holding a normal row's push rhs
-// (angularComponentA's w) or a friction row's coefficient (angularComponentB's w, float 19 of the
-// record): a contact row has one of them, and the lanes stream one float less a row.
-#define BTOCL_LANE_ROW_FLOATS 19
-#define BTOCL_LANE_ROW_SHARED 15
+// A lane block's row: btoclSolveRow's floats 0 to 11 (normal and rhs, each side's angular
+// Jacobian, the cfm and jacDiagABInv), then float 12 holding a normal row's push rhs
+// (angularComponentA's w) or a friction row's coefficient (angularComponentB's w): a contact row
+// has one of them. No angular components: the lanes take a step whose every body keeps its angular
+// change scaled (BTOCL_BODY_SCALED), whose rows' components are their Jacobians (btoclSolveRowOf).
+#define BTOCL_LANE_ROW_FLOATS 13
+#define BTOCL_LANE_ROW_SHARED 12
 // A lanes pass's part in noting which slots hold a row with a push share (few do: deep points
 // alone), so that the push passes visit those alone (a slot without one changes nothing): the
 // warm start notes them where push iterations follow (it reads the line of a row's push share
@@ -368,13 +374,13 @@ BTOCL_INLINE int btoclPushSlotsPart(btoclPassSchedule s, btoclPassStep p) {
     if (p.pass != BTOCL_PASS_PUSH) return BTOCL_PUSH_SLOTS_NONE;
     return p.iteration > 0 || s.warmStart ? BTOCL_PUSH_SLOTS_SKIP : BTOCL_PUSH_SLOTS_NOTE;
 }
-// Where float `field` (0 to 18, above) of wide row `index` lies.
+// Where float `field` (0 to 12, above) of wide row `index` lies.
 BTOCL_INLINE int btoclWideRowFloat(int index, int field, int lanes) {
     return (index / lanes) * (BTOCL_LANE_ROW_FLOATS * lanes) + field * lanes + index % lanes;
 }
 
 #ifndef __OPENCL_VERSION__
-static_assert(sizeof(btoclBody) == 11 * 16, "btoclBody layout");
+static_assert(sizeof(btoclBody) == 14 * 16, "btoclBody layout");
 static_assert(sizeof(btoclBodyDelta) == 4 * 16, "btoclBodyDelta layout");
 static_assert(sizeof(btoclRow) == 8 * 16, "btoclRow layout");
 static_assert(sizeof(btoclSolveRow) == 5 * 16, "btoclSolveRow layout");

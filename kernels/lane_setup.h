@@ -17,8 +17,8 @@ BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float
                                     BTOCL_GLOBAL float* pushApplied, int lanes, int block, int lane,
                                     btoclSolveRow r, float impulse) {
     BTOCL_GLOBAL float* out = wide + btoclWideRowFloat(block * lanes + lane, 0, lanes);
-    const btoclFloat4 parts[4] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal, r.angularComponentA};
-    for (int v = 0; v < 4; ++v) {
+    const btoclFloat4 parts[3] = {r.normal, r.relpos1CrossNormal, r.relpos2CrossNormal};
+    for (int v = 0; v < 3; ++v) {
         out[(4 * v) * lanes] = parts[v].x;
         out[(4 * v + 1) * lanes] = parts[v].y;
         out[(4 * v + 2) * lanes] = parts[v].z;
@@ -27,9 +27,6 @@ BTOCL_INLINE void btoclStoreLaneRow(BTOCL_GLOBAL float* wide, BTOCL_GLOBAL float
     // The push rhs, or where a row has none (a friction row's is 0) its friction coefficient: a
     // push rhs of -0 becomes +0, which the push pass skips as it skips -0.
     out[BTOCL_LANE_ROW_SHARED * lanes] = r.angularComponentA.w != 0.0f ? r.angularComponentA.w : r.angularComponentB.w;
-    out[16 * lanes] = r.angularComponentB.x;
-    out[17 * lanes] = r.angularComponentB.y;
-    out[18 * lanes] = r.angularComponentB.z;
     applied[block * lanes + lane] = impulse;
     pushApplied[block * lanes + lane] = 0.0f;
 }
@@ -80,17 +77,17 @@ BTOCL_INLINE void btoclSetupLaneRows(BTOCL_GLOBAL const btoclContactPoint* point
         const btoclContactFrame f = btoclContactFrameOf(&pt, &A, &B);
         const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, prm);
         btoclStoreLaneRow(wide, applied, pushApplied, lanes, s.normalBlock + k, lane,
-                          btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL), BTOCL_ROW_APPLIED(normal));
+                          btoclSolveRowOf(normal, BTOCL_ROWS_NORMAL, &A, &B), BTOCL_ROW_APPLIED(normal));
         const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm->solverMode);
         lateralDirs[2 * i] = ff.dir1;  // cached ones unchanged
         lateralDirs[2 * i + 1] = ff.dir2;
         const btoclRow first = btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, prm, ff.motion1, ff.cfmSlip, 0);
         btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock, lane,
-                          btoclSolveRowOf(first, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(first));
+                          btoclSolveRowOf(first, BTOCL_ROWS_FRICTION, &A, &B), BTOCL_ROW_APPLIED(first));
         if (twoDirections) {
             const btoclRow second = btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, prm, ff.motion2, ff.cfmSlip, 0);
             btoclStoreLaneRow(wide, applied, pushApplied, lanes, frictionBlock + 1, lane,
-                              btoclSolveRowOf(second, BTOCL_ROWS_FRICTION), BTOCL_ROW_APPLIED(second));
+                              btoclSolveRowOf(second, BTOCL_ROWS_FRICTION, &A, &B), BTOCL_ROW_APPLIED(second));
         }
     }
 }

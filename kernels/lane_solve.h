@@ -111,7 +111,8 @@ BTOCL_SOLVE_INLINE void btoclStoreLaneBodies(const btoclSolveBuffers* b, btoclLa
 }
 
 #define BTOCL_ROW_FIELD(f) btoclLoadLanes(row + (f) * BTOCL_LANES)
-// A block's impulses applied to its lanes' bodies where `active` (btoclApplyRowImpulse, lane by lane).
+// A block's impulses applied to its lanes' bodies where `active` (btoclApplyRowImpulse, lane by lane),
+// each side's angular component its Jacobian (BTOCL_LANE_ROW_FLOATS).
 BTOCL_SOLVE_INLINE void btoclApplyLaneImpulse(__global const float* row, btoclLaneBodies* A, btoclLaneBodies* B,
                                               btoclLanesF impulse, btoclLanesI active) {
     const btoclLanesF nX = BTOCL_ROW_FIELD(0), nY = BTOCL_ROW_FIELD(1), nZ = BTOCL_ROW_FIELD(2);
@@ -119,15 +120,15 @@ BTOCL_SOLVE_INLINE void btoclApplyLaneImpulse(__global const float* row, btoclLa
     BTOCL_APPLY(A->linX, nX * A->lpuX);
     BTOCL_APPLY(A->linY, nY * A->lpuY);
     BTOCL_APPLY(A->linZ, nZ * A->lpuZ);
-    BTOCL_APPLY(A->angX, BTOCL_ROW_FIELD(12) * A->apuX);
-    BTOCL_APPLY(A->angY, BTOCL_ROW_FIELD(13) * A->apuY);
-    BTOCL_APPLY(A->angZ, BTOCL_ROW_FIELD(14) * A->apuZ);
+    BTOCL_APPLY(A->angX, BTOCL_ROW_FIELD(4) * A->apuX);
+    BTOCL_APPLY(A->angY, BTOCL_ROW_FIELD(5) * A->apuY);
+    BTOCL_APPLY(A->angZ, BTOCL_ROW_FIELD(6) * A->apuZ);
     B->linX = select(B->linX, B->linX - (nX * B->lpuX) * impulse, active);
     B->linY = select(B->linY, B->linY - (nY * B->lpuY) * impulse, active);
     B->linZ = select(B->linZ, B->linZ - (nZ * B->lpuZ) * impulse, active);
-    BTOCL_APPLY(B->angX, BTOCL_ROW_FIELD(16) * B->apuX);
-    BTOCL_APPLY(B->angY, BTOCL_ROW_FIELD(17) * B->apuY);
-    BTOCL_APPLY(B->angZ, BTOCL_ROW_FIELD(18) * B->apuZ);
+    BTOCL_APPLY(B->angX, BTOCL_ROW_FIELD(8) * B->apuX);
+    BTOCL_APPLY(B->angY, BTOCL_ROW_FIELD(9) * B->apuY);
+    BTOCL_APPLY(B->angZ, BTOCL_ROW_FIELD(10) * B->apuZ);
 #undef BTOCL_APPLY
 }
 
@@ -139,7 +140,7 @@ BTOCL_SOLVE_INLINE void btoclSolveLaneRows(__global const float* row, __global f
     const btoclLanesF nX = BTOCL_ROW_FIELD(0), nY = BTOCL_ROW_FIELD(1), nZ = BTOCL_ROW_FIELD(2);
     const btoclLanesF old = btoclLoadLanes(applied);
     const btoclLanesF start =
-        (push ? BTOCL_ROW_FIELD(15) : BTOCL_ROW_FIELD(3)) - old * BTOCL_ROW_FIELD(7);  // rhs, cfm
+        (push ? BTOCL_ROW_FIELD(BTOCL_LANE_ROW_SHARED) : BTOCL_ROW_FIELD(3)) - old * BTOCL_ROW_FIELD(7);  // rhs, cfm
     const btoclLanesF vX = (nX * A->linX - nX * B->linX) + (BTOCL_ROW_FIELD(4) * A->angX + BTOCL_ROW_FIELD(8) * B->angX);
     const btoclLanesF vY = (nY * A->linY - nY * B->linY) + (BTOCL_ROW_FIELD(5) * A->angY + BTOCL_ROW_FIELD(9) * B->angY);
     const btoclLanesF vZ =

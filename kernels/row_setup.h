@@ -277,19 +277,36 @@ BTOCL_INLINE int btoclRowFitsSolveRecord(btoclRow r, int dynamicA, int dynamicB)
            (!dynamicB && btoclDot3(n1, n1) != 0.0f && btoclDot3(n2, n2) == 0.0f);
 }
 
+// S v for a body's S (BTOCL_BODY_SCALED).
+BTOCL_INLINE btoclFloat4 btoclAngularScaled(const btoclBody* b, btoclFloat4 v) {
+    return btoclRowsTimes(b->angularScaleRow0, b->angularScaleRow1, b->angularScaleRow2, v);
+}
+// A body's angular velocity change from what the passes kept of it: S u where it is kept scaled.
+BTOCL_INLINE btoclFloat4 btoclAngularChange(const btoclBody* b, btoclFloat4 kept) {
+    return BTOCL_BODY_SCALED(*b) != 0.0f ? btoclAngularScaled(b, kept) : btoclXyz(kept);
+}
+
 // The row as the iterations read it (btoclSolveRow) for a row of kind BTOCL_ROWS_*: one linear
-// Jacobian, A's (or, where A has none, the negative of B's), and the lanes that kind needs.
-BTOCL_INLINE btoclSolveRow btoclSolveRowOf(btoclRow r, int kind) {
+// Jacobian, A's (or, where A has none, the negative of B's), and the lanes that kind needs. A body
+// whose angular change the passes keep scaled (BTOCL_BODY_SCALED; its inverse inertia S S) has
+// both its side's angular Jacobian and component as S J: J . dw = (S J) . u and dw = S (S J) dp,
+// so the passes keep u, and a row needs one angular vector a side (the lanes' rows:
+// docs/architecture.md, "Lanes").
+BTOCL_INLINE btoclSolveRow btoclSolveRowOf(btoclRow r, int kind, const btoclBody* A, const btoclBody* B) {
     btoclSolveRow s;
     const btoclFloat4 n1 = btoclXyz(r.contactNormal1);
     const btoclFloat4 n = btoclDot3(n1, n1) != 0.0f ? n1 : -btoclXyz(r.contactNormal2);
+    btoclFloat4 jacobianA = r.relpos1CrossNormal, componentA = r.angularComponentA;
+    btoclFloat4 jacobianB = r.relpos2CrossNormal, componentB = r.angularComponentB;
+    if (BTOCL_BODY_SCALED(*A) != 0.0f) jacobianA = componentA = btoclAngularScaled(A, r.relpos1CrossNormal);
+    if (BTOCL_BODY_SCALED(*B) != 0.0f) jacobianB = componentB = btoclAngularScaled(B, r.relpos2CrossNormal);
     s.normal = btoclWithW(n, BTOCL_ROW_RHS(r));
-    s.relpos1CrossNormal = btoclWithW(r.relpos1CrossNormal, BTOCL_ROW_CFM(r));
-    s.relpos2CrossNormal = btoclWithW(r.relpos2CrossNormal, BTOCL_ROW_JAC_DIAG_INV(r));
-    s.angularComponentA = btoclWithW(r.angularComponentA, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_LOWER(r)
+    s.relpos1CrossNormal = btoclWithW(jacobianA, BTOCL_ROW_CFM(r));
+    s.relpos2CrossNormal = btoclWithW(jacobianB, BTOCL_ROW_JAC_DIAG_INV(r));
+    s.angularComponentA = btoclWithW(componentA, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_LOWER(r)
                                                           : kind == BTOCL_ROWS_NORMAL ? BTOCL_ROW_RHS_PENETRATION(r)
                                                                                       : 0.0f);
-    s.angularComponentB = btoclWithW(r.angularComponentB, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_UPPER(r)
+    s.angularComponentB = btoclWithW(componentB, kind == BTOCL_ROWS_JOINT    ? BTOCL_ROW_UPPER(r)
                                                           : kind == BTOCL_ROWS_NORMAL ? 0.0f
                                                                                       : BTOCL_ROW_FRICTION(r));
     return s;

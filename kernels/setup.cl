@@ -8,8 +8,9 @@
 // Row `index` of the solve-order layout as the iterations read it, its starting impulses in the
 // compact arrays, and for friction and rolling rows the index of their normal row.
 inline void storeRow(__global btoclSolveRow* rows, __global int* normalOfRow, __global float* applied,
-                     __global float* pushApplied, int index, btoclRow row, int kind, int normalRow) {
-    rows[index] = btoclSolveRowOf(row, kind);
+                     __global float* pushApplied, int index, btoclRow row, int kind, int normalRow,
+                     const btoclBody* A, const btoclBody* B) {
+    rows[index] = btoclSolveRowOf(row, kind, A, B);
     if (kind != BTOCL_ROWS_NORMAL) normalOfRow[index] = normalRow;
     applied[index] = BTOCL_ROW_APPLIED(row);
     pushApplied[index] = 0.0f;
@@ -39,7 +40,7 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
 
     const int normalRow = rowMap[i];
     const btoclRow normal = btoclNormalRow(&pt, &A, &B, &f, &prm);
-    storeRow(rows, normalOfRow, applied, pushApplied, normalRow, normal, BTOCL_ROWS_NORMAL, normalRow);
+    storeRow(rows, normalOfRow, applied, pushApplied, normalRow, normal, BTOCL_ROWS_NORMAL, normalRow, &A, &B);
 
     if (pt.firstRollingRow >= 0) {
         float4 axis0, axis1;
@@ -47,13 +48,13 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
         const int first = pt.firstRollingRow;
         storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first],
                  btoclTorsionalRow(pt.normalOnB, BTOCL_POINT_SPINNING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
-                 BTOCL_ROWS_ROLLING, normalRow);
+                 BTOCL_ROWS_ROLLING, normalRow, &A, &B);
         storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first + 1],
                  btoclTorsionalRow(btoclNormalize3(axis0), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
-                 BTOCL_ROWS_ROLLING, normalRow);
+                 BTOCL_ROWS_ROLLING, normalRow, &A, &B);
         storeRow(rows, normalOfRow, applied, pushApplied, rowMap[first + 2],
                  btoclTorsionalRow(btoclNormalize3(axis1), BTOCL_POINT_ROLLING_FRICTION(pt), &pt, &A, &B, &f, normalRow),
-                 BTOCL_ROWS_ROLLING, normalRow);
+                 BTOCL_ROWS_ROLLING, normalRow, &A, &B);
     }
 
     const btoclFrictionFrame ff = btoclFrictionFrameOf(&pt, &f, prm.solverMode);
@@ -62,11 +63,11 @@ __kernel void setupContactRows(__global const btoclContactPoint* points, __globa
     const int friction = btoclFirstFrictionRow(&prm, i);
     storeRow(rows, normalOfRow, applied, pushApplied, rowMap[friction],
              btoclFrictionRow(ff.dir1, &pt, &A, &B, &f, &prm, ff.motion1, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
-             normalRow);
+             normalRow, &A, &B);
     if (prm.solverMode & BTOCL_SOLVER_USE_2_FRICTION_DIRECTIONS)
         storeRow(rows, normalOfRow, applied, pushApplied, rowMap[friction + 1],
                  btoclFrictionRow(ff.dir2, &pt, &A, &B, &f, &prm, ff.motion2, ff.cfmSlip, normalRow), BTOCL_ROWS_FRICTION,
-                 normalRow);
+                 normalRow, &A, &B);
 }
 
 #if defined(BTOCL_LANES) && BTOCL_LANES > 1

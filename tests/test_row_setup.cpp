@@ -39,20 +39,37 @@ public:
     int numBodies() const { return m_tmpSolverBodyPool.size(); }
 };
 
-// The largest relative gap between one of SI's rows and ours, over every field the solve reads;
-// `sameBodies` is cleared when they act on other bodies or refer to another normal row.
-float rowGap(const btSolverConstraint& si, const btoclRow& r, const SetupOnlySI& bullet, const BulletStep& from,
-             bool compareNormalIndex, bool& sameBodies) {
+// SI's row with each side's angular Jacobian and component as the passes hold them where the
+// body's angular change is kept scaled (btoclSolveRowOf): both S J.
+btSolverConstraint inSolveTerms(const btSolverConstraint& si, const btoclBody& A, const btoclBody& B) {
+    btSolverConstraint s = si;
+    const auto scaled = [](const btoclBody& b, const btVector3& v) {
+        return btVector3(b.angularScaleRow0.x * v.x() + b.angularScaleRow0.y * v.y() + b.angularScaleRow0.z * v.z(),
+                         b.angularScaleRow1.x * v.x() + b.angularScaleRow1.y * v.y() + b.angularScaleRow1.z * v.z(),
+                         b.angularScaleRow2.x * v.x() + b.angularScaleRow2.y * v.y() + b.angularScaleRow2.z * v.z());
+    };
+    if (BTOCL_BODY_SCALED(A) != 0) s.m_relpos1CrossNormal = s.m_angularComponentA = scaled(A, si.m_relpos1CrossNormal);
+    if (BTOCL_BODY_SCALED(B) != 0) s.m_relpos2CrossNormal = s.m_angularComponentB = scaled(B, si.m_relpos2CrossNormal);
+    return s;
+}
+
+// The largest relative gap between one of SI's rows and ours, over every field the solve reads
+// (with solveTerms, ours as the passes hold it: inSolveTerms); `sameBodies` is cleared when they
+// act on other bodies or refer to another normal row.
+float rowGap(const btSolverConstraint& si, const btoclRow& r, const StepProblem& p, const SetupOnlySI& bullet,
+             const BulletStep& from, bool compareNormalIndex, bool solveTerms, bool& sameBodies) {
     if (bullet.body(si.m_solverBodyIdA).m_originalBody != from.original[size_t(r.bodyA)] ||
         bullet.body(si.m_solverBodyIdB).m_originalBody != from.original[size_t(r.bodyB)] ||
         (compareNormalIndex && si.m_frictionIndex != r.frictionIndex))
         sameBodies = false;
-    return fieldGap(si, r);
+    if (!solveTerms) return fieldGap(si, r);
+    return fieldGap(inSolveTerms(si, p.bodies[size_t(r.bodyA)], p.bodies[size_t(r.bodyB)]), r);
 }
 
 // Holds one problem's rows (gather order), friction directions and warm-started bodies to SI's.
+// solveTerms: p.rows as the passes hold them (read back from the device's solve rows).
 void requireAsSI(const char* path, const StepProblem& p, const BulletStep& from, const SetupOnlySI& bullet,
-                 const std::vector<btVector3>& siDir1, const std::vector<btVector3>& siDir2) {
+                 const std::vector<btVector3>& siDir1, const std::vector<btVector3>& siDir2, bool solveTerms) {
     INFO(path << " setup");
     REQUIRE(p.numRowsOf(BTOCL_ROWS_NORMAL) == bullet.normalRows().size());
     REQUIRE(p.numRowsOf(BTOCL_ROWS_FRICTION) == bullet.frictionRows().size());
@@ -65,7 +82,8 @@ void requireAsSI(const char* path, const StepProblem& p, const BulletStep& from,
     bool sameBodies = true;
     auto check = [&](const btConstraintArray& pool, int base, bool compareNormalIndex) {
         for (int k = 0; k < pool.size(); ++k) {
-            const float gap = rowGap(pool[k], p.rows[size_t(base + k)], bullet, from, compareNormalIndex, sameBodies);
+            const float gap =
+                rowGap(pool[k], p.rows[size_t(base + k)], p, bullet, from, compareNormalIndex, solveTerms, sameBodies);
             if (gap > worst) {
                 worst = gap;
                 worstRow = base + k;
@@ -95,9 +113,11 @@ void requireAsSI(const char* path, const StepProblem& p, const BulletStep& from,
         btSolverBody& sb = const_cast<btSolverBody&>(bullet.body(id));
         const auto ours = std::find(from.original.begin(), from.original.end(), sb.m_originalBody);
         if (!sb.m_originalBody || ours == from.original.end()) continue;
-        const btoclBodyDelta& d = p.deltas[size_t(ours - from.original.begin())];
+        const size_t index = size_t(ours - from.original.begin());
+        const btoclBodyDelta& d = p.deltas[index];
         worstDelta = std::max({worstDelta, vectorGap(sb.internalGetDeltaLinearVelocity(), d.deltaLinearVelocity),
-                               vectorGap(sb.internalGetDeltaAngularVelocity(), d.deltaAngularVelocity)});
+                               vectorGap(sb.internalGetDeltaAngularVelocity(),
+                                         btoclAngularChange(&p.bodies[index], d.deltaAngularVelocity))});
     }
     INFO("worst relative warm-start velocity difference " << worstDelta);
     CHECK(worstDelta < 1e-5f);
@@ -125,8 +145,8 @@ void requireRowsAsSI(World& w, const btContactSolverInfo& info, bool deviceToo =
         dir1.push_back(cp->m_lateralFrictionDir1);
         dir2.push_back(cp->m_lateralFrictionDir2);
     }
-    requireAsSI("host", host, gatheredHost.bullet, bullet, dir1, dir2);
-    if (deviceToo) requireAsSI("device", dev, gatheredDev.bullet, bullet, dir1, dir2);
+    requireAsSI("host", host, gatheredHost.bullet, bullet, dir1, dir2, false);
+    if (deviceToo) requireAsSI("device", dev, gatheredDev.bullet, bullet, dir1, dir2, true);
 }
 
 TEST_CASE("contact rows are set up on the host and on the device as SI sets them up", "[setup]") {

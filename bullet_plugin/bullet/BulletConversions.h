@@ -8,6 +8,7 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btVector3.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace btocl {
@@ -25,6 +26,34 @@ struct CollisionObjectMembers : btCollisionObject {
     static constexpr int btCollisionObject::*internalType = &CollisionObjectMembers::m_internalType;
 };
 
+// The square root of a body's world inverse inertia, S = R diag(sqrt(d)) R^T for its basis R and
+// local inverse inertia d, where the passes may keep its angular velocity change scaled by it
+// (btoclSolveRowOf): an angular factor of 1 (0: S is 0), and the tensor Bullet holds the basis's
+// (updateInertiaTensor; a body moved without it keeps SI's tensor and SI's rows). False elsewhere.
+inline bool angularScaleOf(const btRigidBody& rb, btMatrix3x3& S) {
+    const btVector3& factor = rb.getAngularFactor();
+    const bool none = factor.isZero();
+    if (!none && factor != btVector3(1, 1, 1)) return false;
+    const btVector3& d = rb.getInvInertiaDiagLocal();
+    if (!(d.x() >= 0 && d.y() >= 0 && d.z() >= 0)) return false;
+    const btMatrix3x3& R = rb.getWorldTransform().getBasis();
+    const btMatrix3x3& I = rb.getInvInertiaTensorWorld();
+    const btMatrix3x3 fromBasis = R.scaled(d) * R.transpose();
+    btScalar largest = 0, gap = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            largest = std::max(largest, btFabs(I[i][j]));
+            gap = std::max(gap, btFabs(I[i][j] - fromBasis[i][j]));
+        }
+    if (!(gap <= largest * btScalar(1e-5))) return false;
+    if (none) {
+        S.setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
+        return true;
+    }
+    S = R.scaled(btVector3(btSqrt(d.x()), btSqrt(d.y()), btSqrt(d.z()))) * R.transpose();
+    return true;
+}
+
 // A rigid body as SI's solver body holds it (initSolverBody): inverse mass and linear factor,
 // angular factor, world inverse inertia, velocities; no centre or external impulses (the gather
 // adds them). solverBody: the body has a solver body of its own (w lanes: dynamic, rigid); false
@@ -41,6 +70,12 @@ inline btoclBody bodyRecordOf(const btRigidBody& rb, bool solverBody) {
     b.invInertiaRow0 = toFloat4(I[0]);
     b.invInertiaRow1 = toFloat4(I[1]);
     b.invInertiaRow2 = toFloat4(I[2]);
+    btMatrix3x3 S;
+    const bool scaled = angularScaleOf(rb, S);
+    if (!scaled) S.setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
+    b.angularScaleRow0 = toFloat4(S[0], scaled ? 1.f : 0.f);
+    b.angularScaleRow1 = toFloat4(S[1]);
+    b.angularScaleRow2 = toFloat4(S[2]);
     b.linearVelocity = toFloat4(rb.getLinearVelocity());
     b.angularVelocity = toFloat4(rb.getAngularVelocity());
     return b;

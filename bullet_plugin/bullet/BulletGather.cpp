@@ -135,6 +135,8 @@ void StepGatherer::begin(const btContactSolverInfo& info, RowSetup setup) {
     // The fixed body: unit factors, all else zero (SI's initSolverBody without a body).
     p.bodies[0].linearFactor = {1, 1, 1, 0};
     p.bodies[0].angularFactor = {1, 1, 1, 0};
+    BTOCL_BODY_SCALED(p.bodies[0]) = 1.0f;  // S = 0: its rows' sides move nothing either way
+    p.unscaledBodies = 0;
 }
 
 // SI's initSolverBody and the external impulses of convertBodies, for the body at `index`
@@ -168,6 +170,7 @@ void StepGatherer::fillSolverBody(int index) {
     // scattered in memory: a split step's reach reads it (addSplitGeometry).
     btVector3 lo = xf.getOrigin(), hi = lo;
     if (const btCollisionShape* shape = rb->getCollisionShape(); shape && split.dynamic) shape->getAabb(xf, lo, hi);
+    if (BTOCL_BODY_SCALED(b) == 0.0f) __atomic_fetch_add(&p.unscaledBodies, 1, __ATOMIC_RELAXED);
     p.bodies[size_t(index)] = b;
     m_bodyTraits[size_t(index)] = traitsOf(b);
     p.deltas[size_t(index)] = btoclBodyDelta{};

@@ -42,7 +42,7 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into, 
     if (!into && !p.rows.empty())
         throw btOpenCLSolverError("btOpenCLConstraintSolver: contact rows set up on the host after other rows");
     if (into)
-        into->beginRows(size_t(p.numRows()));  // as many or more: a rolling row may be left out
+        into->beginRows(size_t(p.numRows()), p.bodies.data());  // as many or more: a rolling row may be left out
     else
         p.rows.resize(size_t(rollingBase));
     auto put = [&](int index, const btoclRow& row, int kind) {
@@ -136,7 +136,7 @@ void setupRowsOnHost(StepProblem& p, const BulletStep& bullet, HostSolve* into, 
         if (c.numRows[BTOCL_ROWS_JOINT] > 0) c.firstRow[BTOCL_ROWS_JOINT] += jointShift;
     if (into) {
         // p.rows keeps the joints' rows alone, as the device's steps leave it (p.rowsOnDevice).
-        into->beginRows(size_t(p.numRows()));
+        into->beginRows(size_t(p.numRows()), p.bodies.data());
         for (size_t k = 0; k < rolling.size(); ++k) into->setRow(rollingBase + int(k), rolling[k], BTOCL_ROWS_ROLLING);
         for (size_t k = 0; k < numJointRows; ++k)
             into->setRow(p.rowStart(BTOCL_ROWS_JOINT) + int(k), p.rows[k], BTOCL_ROWS_JOINT);

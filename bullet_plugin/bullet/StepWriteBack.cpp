@@ -3,6 +3,7 @@
 #include "BulletConversions.h"
 #include "HostParallel.h"
 #include "JointWriteBack.h"
+#include "row_setup.h"
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
@@ -71,11 +72,11 @@ void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btCon
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
         const btVector3 linear = toVector3(b.linearVelocity) + toVector3(d.deltaLinearVelocity);
-        const btVector3 angular = toVector3(b.angularVelocity) + toVector3(d.deltaAngularVelocity);
+        const btVector3 angular = toVector3(b.angularVelocity) + toVector3(btoclAngularChange(&b, d.deltaAngularVelocity));
         rb->setLinearVelocity(linear + toVector3(b.externalForceImpulse));
         rb->setAngularVelocity(angular + toVector3(b.externalTorqueImpulse));
         if (info.m_splitImpulse) {
-            const btVector3 push = toVector3(d.pushVelocity), turn = toVector3(d.turnVelocity);
+            const btVector3 push = toVector3(d.pushVelocity), turn = toVector3(btoclAngularChange(&b, d.turnVelocity));
             if (!push.isZero() || !turn.isZero()) {
                 btTransform next;
                 btTransformUtil::integrateTransform(bullet.worldTransforms[i], push, turn * info.m_splitImpulseTurnErp,

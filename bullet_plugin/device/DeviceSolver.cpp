@@ -79,7 +79,8 @@ void DeviceSolver::arrange(StepProblem& p, const DeviceLayoutView& layout, const
 
     if (!p.rows.empty()) {  // rows the host set up: every row, or the joints'
         setArgs(m_placeRows, m_hostRows.buffer(), p.hostRowBase(), m_rowMap.buffer(), m_rows.buffer(),
-                m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), int(p.rows.size()), p.regions);
+                m_normalOfRow.buffer(), m_applied.buffer(), m_pushApplied.buffer(), int(p.rows.size()), p.regions,
+                m_bodies.buffer());
         m_rt.launch(m_placeRows, p.rows.size(), kLanes, "launching placeRows");
     }
     if (!p.rowsOnDevice || p.points.empty()) return;
@@ -232,7 +233,7 @@ void DeviceSolver::warmUp(KernelWarmUp& warm, const GroupLanes& lanes) {
     warm.launch(m_countRows, grid, kLanes);
     setArgs(m_placeConstraints, z, z, z, z, none, z, z, none);
     warm.launch(m_placeConstraints, grid, kLanes);
-    setArgs(m_placeRows, z, none, z, z, z, z, z, none, btoclRowRegionsOf(0, 0, 0, 0));
+    setArgs(m_placeRows, z, none, z, z, z, z, z, none, btoclRowRegionsOf(0, 0, 0, 0), z);
     warm.launch(m_placeRows, grid, kLanes);
     btoclSetupParams noPoints{};
     noPoints.numPoints = 0;

@@ -59,28 +59,35 @@ BTOCL_LANES_INLINE void storeBodies(btoclBodyDelta* deltas, const int* body, int
 
 #define ROW_FIELD(f) load(row + (f) * W)
 
-BTOCL_LANES_INLINE void applyImpulse(const float* row, LaneBodies& A, LaneBodies& B, Lanes impulse, LaneMask active) {
+// A row's angular components lie at floats componentA and componentB: a contact row's are its
+// Jacobians' (BTOCL_LANE_ROW_FLOATS: its bodies keep their angular changes scaled), a joint row's
+// btoclSolveRow's own.
+enum { kContactComponentA = 4, kContactComponentB = 8, kJointComponentA = 12, kJointComponentB = 16 };
+
+BTOCL_LANES_INLINE void applyImpulse(const float* row, LaneBodies& A, LaneBodies& B, Lanes impulse, LaneMask active,
+                                     int componentA, int componentB) {
     const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
     A.linX = select(A.linX, A.linX + (nX * A.lpuX) * impulse, active);
     A.linY = select(A.linY, A.linY + (nY * A.lpuY) * impulse, active);
     A.linZ = select(A.linZ, A.linZ + (nZ * A.lpuZ) * impulse, active);
-    A.angX = select(A.angX, A.angX + (ROW_FIELD(12) * A.apuX) * impulse, active);
-    A.angY = select(A.angY, A.angY + (ROW_FIELD(13) * A.apuY) * impulse, active);
-    A.angZ = select(A.angZ, A.angZ + (ROW_FIELD(14) * A.apuZ) * impulse, active);
+    A.angX = select(A.angX, A.angX + (ROW_FIELD(componentA) * A.apuX) * impulse, active);
+    A.angY = select(A.angY, A.angY + (ROW_FIELD(componentA + 1) * A.apuY) * impulse, active);
+    A.angZ = select(A.angZ, A.angZ + (ROW_FIELD(componentA + 2) * A.apuZ) * impulse, active);
     B.linX = select(B.linX, B.linX - (nX * B.lpuX) * impulse, active);
     B.linY = select(B.linY, B.linY - (nY * B.lpuY) * impulse, active);
     B.linZ = select(B.linZ, B.linZ - (nZ * B.lpuZ) * impulse, active);
-    B.angX = select(B.angX, B.angX + (ROW_FIELD(16) * B.apuX) * impulse, active);
-    B.angY = select(B.angY, B.angY + (ROW_FIELD(17) * B.apuY) * impulse, active);
-    B.angZ = select(B.angZ, B.angZ + (ROW_FIELD(18) * B.apuZ) * impulse, active);
+    B.angX = select(B.angX, B.angX + (ROW_FIELD(componentB) * B.apuX) * impulse, active);
+    B.angY = select(B.angY, B.angY + (ROW_FIELD(componentB + 1) * B.apuY) * impulse, active);
+    B.angZ = select(B.angZ, B.angZ + (ROW_FIELD(componentB + 2) * B.apuZ) * impulse, active);
 }
 
 // Returns the lanes whose impulse changed.
 BTOCL_LANES_INLINE LaneMask solveRows(const float* row, float* applied, LaneBodies& A, LaneBodies& B, Lanes lower,
-                                      Lanes upper, int push, LaneMask active) {
+                                      Lanes upper, int push, LaneMask active, int componentA = kContactComponentA,
+                                      int componentB = kContactComponentB) {
     const Lanes nX = ROW_FIELD(0), nY = ROW_FIELD(1), nZ = ROW_FIELD(2);
     const Lanes old = load(applied);
-    const Lanes start = (push ? ROW_FIELD(15) : ROW_FIELD(3)) - old * ROW_FIELD(7);
+    const Lanes start = (push ? ROW_FIELD(BTOCL_LANE_ROW_SHARED) : ROW_FIELD(3)) - old * ROW_FIELD(7);
     const Lanes vX = (nX * A.linX - nX * B.linX) + (ROW_FIELD(4) * A.angX + ROW_FIELD(8) * B.angX);
     const Lanes vY = (nY * A.linY - nY * B.linY) + (ROW_FIELD(5) * A.angY + ROW_FIELD(9) * B.angY);
     const Lanes vZ = (nZ * A.linZ - nZ * B.linZ) + (ROW_FIELD(6) * A.angZ + ROW_FIELD(10) * B.angZ);
@@ -90,7 +97,7 @@ BTOCL_LANES_INLINE LaneMask solveRows(const float* row, float* applied, LaneBodi
     const Lanes delta = select(select(unclamped, upper - old, above), lower - old, below);
     const Lanes next = select(select(sum, upper, above), lower, below);
     store(select(old, next, active), applied);
-    applyImpulse(row, A, B, delta, active);
+    applyImpulse(row, A, B, delta, active, componentA, componentB);
     return (delta != 0.0f) & active;
 }
 
@@ -226,8 +233,8 @@ namespace {
 // A joint slot's rows (lane i's k-th at block firstBlock + k, lane i) as the one-lane walk reads
 // them (btoclSolveRowOf), eight rows turned into a block's vectors at a time; zeros where a lane
 // has no row (masked in the solve).
-BTOCL_LANES_TARGET void placeJointRows(const btoclRow* rows, const int* ints, const JointLaneSlot& slot, float* out,
-                                       float* applied, int* rowMap) {
+BTOCL_LANES_TARGET void placeJointRows(const btoclRow* rows, const btoclBody* bodies, const int* ints,
+                                       const JointLaneSlot& slot, float* out, float* applied, int* rowMap) {
     static_assert(sizeof(btoclSolveRow) == BTOCL_SOLVE_ROW_FLOATS * sizeof(float), "a solve row's floats");
     btoclSolveRow lanes[W];
     const btoclSolveRow zero{};
@@ -239,7 +246,7 @@ BTOCL_LANES_TARGET void placeJointRows(const btoclRow* rows, const int* ints, co
             records[i] = reinterpret_cast<const float*>(&zero);
             if (k >= ints[BTOCL_LANE_POINTS * W + i]) continue;
             const int r = ints[BTOCL_LANE_FIRST_POINT * W + i] + k;
-            lanes[i] = btoclSolveRowOf(rows[r], BTOCL_ROWS_JOINT);
+            lanes[i] = btoclSolveRowOf(rows[r], BTOCL_ROWS_JOINT, bodies + rows[r].bodyA, bodies + rows[r].bodyB);
             records[i] = reinterpret_cast<const float*>(&lanes[i]);
             start[i] = BTOCL_ROW_APPLIED(rows[r]);
             rowMap[r] = block * W + i;
@@ -316,8 +323,8 @@ void HostLaneSolve::setUpJointLanes(const StepProblem& p) {
     m_jointApplied.resize(size_t(numBlocks) * W);
     m_jointRowMap.resize(p.rows.size());
     parallelFor(m_jointSlots.size(), [&](size_t t) {
-        placeJointRows(p.rows.data(), m_jointLaneInts.data() + t * BTOCL_LANE_INTS * W, m_jointSlots[t], m_jointBlocks.data(),
-                       m_jointApplied.data(), m_jointRowMap.data());
+        placeJointRows(p.rows.data(), p.bodies.data(), m_jointLaneInts.data() + t * BTOCL_LANE_INTS * W, m_jointSlots[t],
+                       m_jointBlocks.data(), m_jointApplied.data(), m_jointRowMap.data());
     }, W * kContactConstraintWeight);
 }
 
@@ -348,7 +355,7 @@ BTOCL_LANES_TARGET void solveJointSlotRange(const JointLaneSlot* slots, const in
         for (int k = 0; k < s.blocks; ++k) {
             const float* row = blocks + size_t(s.firstBlock + k) * blockFloats;
             solveRows(row, applied + size_t(s.firstBlock + k) * W, A, B, load(row + 15 * W), load(row + 19 * W), 0,
-                      (rows > k) & takesPart);
+                      (rows > k) & takesPart, kJointComponentA, kJointComponentB);
         }
         storeBodies(deltas, bodyA, 0, A);
         storeBodies(deltas, bodyB, 0, B);
@@ -436,7 +443,7 @@ BTOCL_LANES_INLINE bool solveLaneBundle(const LaneLayout& layout, const LaneRows
                 askForRowsAhead(row);
                 LaneMask active = numPoints > k;
                 if (warmStart) {
-                    applyImpulse(row, A, B, load(applied + size_t(block) * W), active);
+                    applyImpulse(row, A, B, load(applied + size_t(block) * W), active, kContactComponentA, kContactComponentB);
                     if (pushSlots == BTOCL_PUSH_SLOTS_NOTE)
                         pushes |= active & (load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f);
                 } else if (push) {

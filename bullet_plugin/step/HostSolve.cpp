@@ -117,7 +117,8 @@ float HostSolve::solvePass(StepProblem& p, const BatchLayout* layout, int pass, 
     }
 }
 
-void HostSolve::beginRows(size_t numRows) {
+void HostSolve::beginRows(size_t numRows, const btoclBody* bodies) {
+    m_bodies = bodies;
     m_rows.resize(numRows);
     m_normalOfRow.resize(numRows);
     m_applied.resize(numRows);
@@ -126,7 +127,7 @@ void HostSolve::beginRows(size_t numRows) {
 
 int HostSolve::solve(StepProblem& p, const btoclPassSchedule& passes, const SolveSettings& settings,
                      const BatchLayout* layout) {
-    beginRows(p.rows.size());
+    beginRows(p.rows.size(), p.bodies.data());
     for (const btoclConstraint& c : p.constraints)
         for (int kind = 0; kind < BTOCL_NUM_ROW_KINDS; ++kind)
             for (int r = c.firstRow[kind]; r < c.firstRow[kind] + c.numRows[kind]; ++r)

@@ -24,12 +24,12 @@ public:
               const BatchLayout* layout = nullptr);
 
     // A host step's rows put here as they are set up (setupRowsOnHost with a HostSolve), rather
-    // than set up into p.rows and converted: room for `numRows` rows, then setRow at each gather
+    // than set up into p.rows and converted: room for `numRows` rows of the step's `bodies`, then setRow at each gather
     // index, then solveRowsSet, which solves them as solve() would.
-    void beginRows(size_t numRows);
+    void beginRows(size_t numRows, const btoclBody* bodies);
     void setRow(int index, const btoclRow& row, int kind) {
         const size_t i = size_t(index);
-        m_rows[i] = btoclSolveRowOf(row, kind);
+        m_rows[i] = btoclSolveRowOf(row, kind, m_bodies + row.bodyA, m_bodies + row.bodyB);
         m_normalOfRow[i] = row.frictionIndex;
         m_applied[i] = BTOCL_ROW_APPLIED(row);
         m_pushApplied[i] = BTOCL_ROW_APPLIED_PUSH(row);
@@ -59,6 +59,7 @@ private:
     // The rows as the passes read them (btoclSolveRow), with each friction and rolling row's normal
     // row, and the impulses they update, all in gather order.
     std::vector<btoclSolveRow> m_rows;
+    const btoclBody* m_bodies = nullptr;  // the step's, which setRow reads (beginRows)
     std::vector<int> m_normalOfRow;
     std::vector<float> m_applied, m_pushApplied;
     bool m_pairs = true;

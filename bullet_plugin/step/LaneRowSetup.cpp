@@ -51,9 +51,9 @@ BTOCL_LANES_INLINE Float4Lanes transpose(const btoclFloat4* const* p, size_t off
 
 // A side's bodies as the row setup reads them (btoclContactFrameOf, btoclNormalRow, ...).
 struct SetupBodies {
-    Vec3 centerOfMass, linear, angular, force, torque, row0, row1, row2, angularFactor;
+    Vec3 centerOfMass, linear, angular, force, torque, row0, row1, row2, angularFactor, scale0, scale1, scale2;
     Lanes invMass;
-    LaneMask rigid;
+    LaneMask rigid, scaled;
 };
 BTOCL_LANES_INLINE SetupBodies loadSetupBodies(const btoclBody* const* b) {
     SetupBodies s;
@@ -69,6 +69,11 @@ BTOCL_LANES_INLINE SetupBodies loadSetupBodies(const btoclBody* const* b) {
     s.row0 = BTOCL_FIELD_LANES(b, btoclBody, invInertiaRow0).xyz();
     s.row1 = BTOCL_FIELD_LANES(b, btoclBody, invInertiaRow1).xyz();
     s.row2 = BTOCL_FIELD_LANES(b, btoclBody, invInertiaRow2).xyz();
+    const Float4Lanes scale0 = BTOCL_FIELD_LANES(b, btoclBody, angularScaleRow0);
+    s.scale0 = scale0.xyz();
+    s.scaled = scale0.w != 0.0f;
+    s.scale1 = BTOCL_FIELD_LANES(b, btoclBody, angularScaleRow1).xyz();
+    s.scale2 = BTOCL_FIELD_LANES(b, btoclBody, angularScaleRow2).xyz();
     return s;
 }
 
@@ -78,15 +83,24 @@ BTOCL_LANES_INLINE Vec3 angularComponent(const SetupBodies& b, Vec3 axis) {
             dot(b.row2, axis) * b.angularFactor.z};
 }
 
+// btoclAngularScaled.
+BTOCL_LANES_INLINE Vec3 angularScaled(const SetupBodies& b, Vec3 v) { return {dot(b.scale0, v), dot(b.scale1, v), dot(b.scale2, v)}; }
+
 // A row's floats as btoclSolveRowOf lays them out (normal xyz and rhs, relpos1CrossNormal xyz
 // and cfm, ...), a vector each, and its starting impulse.
 struct RowLanes {
     Lanes f[BTOCL_SOLVE_ROW_FLOATS];
     Lanes impulse;
 };
-BTOCL_LANES_INLINE void rowLanesOf(RowLanes& r, Vec3 n1, Vec3 n2, Lanes rhs, Vec3 rp1, Lanes w1, Vec3 rp2, Lanes jac,
-                                   Vec3 angA, Lanes wA, Vec3 angB, Lanes wB, Lanes impulse) {
+BTOCL_LANES_INLINE void rowLanesOf(RowLanes& r, const SetupBodies& A, const SetupBodies& B, Vec3 n1, Vec3 n2, Lanes rhs,
+                                   Vec3 rp1, Lanes w1, Vec3 rp2, Lanes jac, Vec3 angA, Lanes wA, Vec3 angB, Lanes wB,
+                                   Lanes impulse) {
     const Vec3 n = select(-n2, n1, dot(n1, n1) != 0.0f);
+    const Vec3 scaledA = angularScaled(A, rp1), scaledB = angularScaled(B, rp2);
+    rp1 = select(rp1, scaledA, A.scaled);
+    angA = select(angA, scaledA, A.scaled);
+    rp2 = select(rp2, scaledB, B.scaled);
+    angB = select(angB, scaledB, B.scaled);
     // Field by field: from a list, GCC copied the row into place with `rep movsq`.
     r.f[0] = n.x, r.f[1] = n.y, r.f[2] = n.z, r.f[3] = rhs;
     r.f[4] = rp1.x, r.f[5] = rp1.y, r.f[6] = rp1.z, r.f[7] = w1;
@@ -114,7 +128,7 @@ BTOCL_LANES_INLINE void frictionRowLanes(RowLanes& r, Vec3 axis, const SetupBodi
     const Lanes vel1 = dot(n1, select(zero, A.linear + A.force, hasA)) + dot(rp1, select(zero, A.angular, hasA));
     const Lanes vel2 = dot(n2, select(zero, B.linear + B.force, hasB)) + dot(rp2, select(zero, B.angular, hasB));
     const Lanes velocityImpulse = (0.0f - (vel1 + vel2)) * jac;
-    rowLanesOf(r, n1, n2, 0.0f + velocityImpulse, rp1, splat(0.0f), rp2, jac, angA, splat(0.0f), angB, friction,
+    rowLanesOf(r, A, B, n1, n2, 0.0f + velocityImpulse, rp1, splat(0.0f), rp2, jac, angA, splat(0.0f), angB, friction,
                splat(0.0f));
 }
 
@@ -178,7 +192,7 @@ BTOCL_LANES_INLINE void pointRowLanes(PointRowLanes& out, const btoclContactPoin
     const Lanes rhsPenetration = select(splat(0.0f), penetrationImpulse, toPush);
     const Lanes warm =
         (prm.solverMode & BTOCL_SOLVER_USE_WARMSTARTING) ? appliedBefore * prm.warmstartingFactor : splat(0.0f);
-    rowLanesOf(out.normal, n1, n2, rhs, rp1, cfm * jac, rp2, jac, angA, rhsPenetration, angB, splat(0.0f), warm);
+    rowLanesOf(out.normal, A, B, n1, n2, rhs, rp1, cfm * jac, rp2, jac, angA, rhsPenetration, angB, splat(0.0f), warm);
 
     // btoclFrictionFrameOf, the directions chosen this step
     const Vec3 lateral = vel - n * relVel;
@@ -219,7 +233,8 @@ BTOCL_LANES_INLINE void storeRow(Lanes v, float* p, bool stream) {
 BTOCL_LANES_INLINE void storeBlock(const RowLanes& r, LaneMask active, float* block, float* applied,
                                    float* pushApplied, bool stream) {
     for (int f = 0; f < BTOCL_LANE_ROW_FLOATS; ++f) {
-        // Float 15 as lane_setup.h's btoclStoreLaneRow writes it: the push rhs, else float 19.
+        // Float 12 as lane_setup.h's btoclStoreLaneRow writes it: the push rhs (float 15 of the
+        // solve row), else float 19.
         const Lanes value = f == BTOCL_LANE_ROW_SHARED ? select(r.f[19], r.f[15], r.f[15] != 0.0f) : r.f[f];
         storeRow(select(splat(0.0f), value, active), block + f * W, stream);
     }
