@@ -22,8 +22,9 @@ struct StepProblem {
     HostArray<btoclBody> bodies;  // HostArray: read in place by a device on the host's memory
     HostArray<btoclBodyDelta> deltas;  // zero here; the solve fills them (in place, as `bodies`)
     std::vector<SplitBody> splitBodies;
-    // Bodies whose angular velocity change the passes keep as SI's (BTOCL_BODY_SCALED 0): a step
-    // with one has rows that the lanes' 13 floats do not hold.
+    // Bodies whose angular velocity change the passes keep as SI's (BTOCL_BODY_SCALED 0), counted
+    // by the gather as it fills their records: a step with one has rows that the lanes' 13 floats
+    // do not hold.
     int unscaledBodies = 0;
 
     // One constraint per manifold that has points in reach, then one per joint with rows; the
