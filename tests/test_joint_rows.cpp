@@ -407,7 +407,8 @@ float gapToRowsAsSI(StepProblem& p, World& w, const btContactSolverInfo& info) {
 
 }  // namespace
 
-TEST_CASE("bodies whose angular changes the passes keep scaled end with the velocities of SI's rows", "[joints][solve]") {
+TEST_CASE("bodies whose angular changes the passes keep scaled end with the velocities of SI's rows",
+          "[joints][solve]") {
     World w(SolverKind::Reference);
     groundAndPile(w, 27);
     testworld::addChain(w, btVector3(6, 8, 0), 6, 2);
@@ -432,10 +433,13 @@ TEST_CASE("bodies whose angular changes the passes keep scaled end with the velo
         const btoclFloat4 S[3] = {b.angularScaleRow0, b.angularScaleRow1, b.angularScaleRow2};
         const btoclFloat4 I[3] = {b.invInertiaRow0, b.invInertiaRow1, b.invInertiaRow2};
         float largest = 0;
-        for (int r = 0; r < 3; ++r) largest = std::max({largest, std::fabs(I[r].x), std::fabs(I[r].y), std::fabs(I[r].z)});
+        for (int r = 0; r < 3; ++r)
+            largest = std::max({largest, std::fabs(I[r].x), std::fabs(I[r].y), std::fabs(I[r].z)});
         for (int r = 0; r < 3; ++r) {
-            const btoclFloat4 column[3] = {{S[0].x, S[1].x, S[2].x, 0}, {S[0].y, S[1].y, S[2].y, 0}, {S[0].z, S[1].z, S[2].z, 0}};
-            const float product[3] = {btoclDot3(S[r], column[0]), btoclDot3(S[r], column[1]), btoclDot3(S[r], column[2])};
+            const btoclFloat4 column[3] = {
+                {S[0].x, S[1].x, S[2].x, 0}, {S[0].y, S[1].y, S[2].y, 0}, {S[0].z, S[1].z, S[2].z, 0}};
+            const float product[3] = {btoclDot3(S[r], column[0]), btoclDot3(S[r], column[1]),
+                                      btoclDot3(S[r], column[2])};
             const float wanted[3] = {I[r].x, I[r].y, I[r].z};
             for (int c = 0; c < 3; ++c) worstRoot = std::max(worstRoot, std::fabs(product[c] - wanted[c]) / largest);
         }

@@ -551,8 +551,9 @@ TEST_CASE("a host step's rows set up eight points at a time are the one-by-one s
         bool same = true;
         for (int r = 0; r < p.numRows(); ++r) {
             const btoclRow& row = p.rows[size_t(r)];
-            const btoclSolveRow expected = btoclSolveRowOf(row, r < p.numContactPoints() ? BTOCL_ROWS_NORMAL : BTOCL_ROWS_FRICTION,
-                                                           &p.bodies[size_t(row.bodyA)], &p.bodies[size_t(row.bodyB)]);
+            const btoclSolveRow expected =
+                btoclSolveRowOf(row, r < p.numContactPoints() ? BTOCL_ROWS_NORMAL : BTOCL_ROWS_FRICTION,
+                                &p.bodies[size_t(row.bodyA)], &p.bodies[size_t(row.bodyB)]);
             same = same && std::memcmp(&expected, &records.rows[r], sizeof expected) == 0 &&
                    records.normalOfRow[r] == row.frictionIndex &&
                    std::memcmp(&BTOCL_ROW_APPLIED(row), &records.applied[r], sizeof(float)) == 0 &&

@@ -685,7 +685,8 @@ TEST_CASE("parity: ragdolls fall on each other and come to rest as with SI", "[p
     report("ragdolls: worst joint stretch of 10 heaps (m)", worstRef, worstOurs);
     report("ragdolls: deepest penetration of 10 heaps (m)", deepestRef, deepestOurs);
     report("ragdolls: median kinetic energy in the last second (J)", median(energyRef), median(energyOurs));
-    report("ragdolls: most kinetic energy in the last second (J)", *std::max_element(energyRef.begin(), energyRef.end()),
+    report("ragdolls: most kinetic energy in the last second (J)",
+           *std::max_element(energyRef.begin(), energyRef.end()),
            *std::max_element(energyOurs.begin(), energyOurs.end()));
     report("ragdolls: median farthest ragdoll moved in the last second (m)", median(centreRef), median(centreOurs));
     report("ragdolls: median farthest part moved in the last second (m)", median(partRef), median(partOurs));

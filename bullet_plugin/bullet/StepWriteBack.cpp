@@ -72,7 +72,8 @@ void writeBackBodies(const StepProblem& p, const BulletStep& bullet, const btCon
         const btoclBody& b = p.bodies[i];
         const btoclBodyDelta& d = p.deltas[i];
         const btVector3 linear = toVector3(b.linearVelocity) + toVector3(d.deltaLinearVelocity);
-        const btVector3 angular = toVector3(b.angularVelocity) + toVector3(btoclAngularChange(&b, d.deltaAngularVelocity));
+        const btVector3 angular =
+            toVector3(b.angularVelocity) + toVector3(btoclAngularChange(&b, d.deltaAngularVelocity));
         rb->setLinearVelocity(linear + toVector3(b.externalForceImpulse));
         rb->setAngularVelocity(angular + toVector3(b.externalTorqueImpulse));
         if (info.m_splitImpulse) {

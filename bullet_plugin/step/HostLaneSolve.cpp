@@ -323,8 +323,8 @@ void HostLaneSolve::setUpJointLanes(const StepProblem& p) {
     m_jointApplied.resize(size_t(numBlocks) * W);
     m_jointRowMap.resize(p.rows.size());
     parallelFor(m_jointSlots.size(), [&](size_t t) {
-        placeJointRows(p.rows.data(), p.bodies.data(), m_jointLaneInts.data() + t * BTOCL_LANE_INTS * W, m_jointSlots[t],
-                       m_jointBlocks.data(), m_jointApplied.data(), m_jointRowMap.data());
+        placeJointRows(p.rows.data(), p.bodies.data(), m_jointLaneInts.data() + t * BTOCL_LANE_INTS * W,
+                       m_jointSlots[t], m_jointBlocks.data(), m_jointApplied.data(), m_jointRowMap.data());
     }, W * kContactConstraintWeight);
 }
 
@@ -443,7 +443,8 @@ BTOCL_LANES_INLINE bool solveLaneBundle(const LaneLayout& layout, const LaneRows
                 askForRowsAhead(row);
                 LaneMask active = numPoints > k;
                 if (warmStart) {
-                    applyImpulse(row, A, B, load(applied + size_t(block) * W), active, kContactComponentA, kContactComponentB);
+                    applyImpulse(row, A, B, load(applied + size_t(block) * W), active, kContactComponentA,
+                                 kContactComponentB);
                     if (pushSlots == BTOCL_PUSH_SLOTS_NOTE)
                         pushes |= active & (load(row + BTOCL_LANE_ROW_SHARED * W) != 0.0f);
                 } else if (push) {

@@ -24,8 +24,8 @@ public:
               const BatchLayout* layout = nullptr);
 
     // A host step's rows put here as they are set up (setupRowsOnHost with a HostSolve), rather
-    // than set up into p.rows and converted: room for `numRows` rows of the step's `bodies`, then setRow at each gather
-    // index, then solveRowsSet, which solves them as solve() would.
+    // than set up into p.rows and converted: room for `numRows` rows of the step's `bodies`, then
+    // setRow at each gather index, then solveRowsSet, which solves them as solve() would.
     void beginRows(size_t numRows, const btoclBody* bodies);
     void setRow(int index, const btoclRow& row, int kind) {
         const size_t i = size_t(index);

@@ -84,7 +84,9 @@ BTOCL_LANES_INLINE Vec3 angularComponent(const SetupBodies& b, Vec3 axis) {
 }
 
 // btoclAngularScaled.
-BTOCL_LANES_INLINE Vec3 angularScaled(const SetupBodies& b, Vec3 v) { return {dot(b.scale0, v), dot(b.scale1, v), dot(b.scale2, v)}; }
+BTOCL_LANES_INLINE Vec3 angularScaled(const SetupBodies& b, Vec3 v) {
+    return {dot(b.scale0, v), dot(b.scale1, v), dot(b.scale2, v)};
+}
 
 // A row's floats as btoclSolveRowOf lays them out (normal xyz and rhs, relpos1CrossNormal xyz
 // and cfm, ...), a vector each, and its starting impulse.
