@@ -332,8 +332,14 @@ def startup_table(run_list):
     return lines
 
 
-# A lane block's row: BTOCL_LANE_ROW_FLOATS floats (kernels/btocl_shared.h).
-LANE_ROW_FLOATS = 19
+# A lane block's row: BTOCL_LANE_ROW_FLOATS floats, read from kernels/btocl_shared.h.
+def lane_row_floats():
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "kernels", "btocl_shared.h")
+    with open(header) as f:
+        return int(re.search(r"#define BTOCL_LANE_ROW_FLOATS (\d+)", f.read()).group(1))
+
+
+LANE_ROW_FLOATS = lane_row_floats()
 
 
 def limit_table(speed_runs, hardware_runs, growth_runs=(), scenes=("block-12000", "pyramid3d-20"),
