@@ -44,9 +44,7 @@ public:
 btSolverConstraint inSolveTerms(const btSolverConstraint& si, const btoclBody& A, const btoclBody& B) {
     btSolverConstraint s = si;
     const auto scaled = [](const btoclBody& b, const btVector3& v) {
-        return btVector3(b.angularScaleRow0.x * v.x() + b.angularScaleRow0.y * v.y() + b.angularScaleRow0.z * v.z(),
-                         b.angularScaleRow1.x * v.x() + b.angularScaleRow1.y * v.y() + b.angularScaleRow1.z * v.z(),
-                         b.angularScaleRow2.x * v.x() + b.angularScaleRow2.y * v.y() + b.angularScaleRow2.z * v.z());
+        return toVector3(btoclAngularScaled(&b, toFloat4(v)));
     };
     if (BTOCL_BODY_SCALED(A) != 0) s.m_relpos1CrossNormal = s.m_angularComponentA = scaled(A, si.m_relpos1CrossNormal);
     if (BTOCL_BODY_SCALED(B) != 0) s.m_relpos2CrossNormal = s.m_angularComponentB = scaled(B, si.m_relpos2CrossNormal);
